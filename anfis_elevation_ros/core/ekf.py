@@ -1,0 +1,202 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""15-state error-state EKF with zero-velocity updates, patent CN111649742A step S3, eq. (5)-(7).
+
+Error state, in the patent's order (each a 3-vector, navigation frame ENU unless noted):
+    dx = [dP, dV, accelerometer bias (body), dphi (attitude), gyro bias (body)]
+with true = estimate + error for position, velocity and biases, and
+C_nb_true = (I + [dphi x]) C_nb_est for attitude. Linearised error dynamics (Earth rotation
+ignored, flat Earth):
+
+    dP'  = dV
+    dV'  = -[f_n x] dphi - C_nb dba - C_nb n_a
+    dphi' = -C_nb dbg - C_nb n_g
+    dba' = n_ba,  dbg' = n_bg                (random walks)
+
+discretised to first order, Phi = I + F dt. Every stance sample brings the pseudo-measurement
+v_n = 0 (ZUPT); the estimated error is fed back into the nominal state and reset to zero
+(closed loop), so the filter runs causally, sample by sample.
+
+References
+----------
+[1] J. Sola, "Quaternion kinematics for the error-state Kalman filter", arXiv:1711.02508, 2017.
+[2] J.-O. Nilsson, I. Skog, P. Handel, K. V. S. Hari, "Foot-mounted INS for everybody - an
+    open-source embedded implementation", IEEE/ION PLANS 2012 (OpenShoe).
+[3] P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated Navigation Systems,
+    2nd ed., 2013, sec. 14.2 (error-state dynamics) and 3.2 (Joseph form).
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from .errors import InputError
+from .frames import quat_multiply, rotvec_to_quat
+
+N_STATES = 15
+POS, VEL, ACC_BIAS, ATT, GYR_BIAS = (slice(i, i + 3) for i in range(0, N_STATES, 3))
+STATE_NAMES = tuple(f'{block}_{axis}' for block in ('pos', 'vel', 'acc_bias', 'att', 'gyr_bias')
+                    for axis in 'xyz')
+
+H_ZUPT = np.zeros((3, N_STATES))
+H_ZUPT[:, VEL] = np.eye(3)
+
+
+@dataclass(frozen=True)
+class EkfParams:
+    """Noise model of the error-state EKF.
+
+    Attributes
+    ----------
+    acc_noise_mps2_sqrt_hz : accelerometer white-noise density (velocity random walk).
+    gyr_noise_rps_sqrt_hz : gyroscope white-noise density (angle random walk).
+    acc_bias_walk_mps3_sqrt_hz : accelerometer bias random-walk density.
+    gyr_bias_walk_rps2_sqrt_hz : gyroscope bias random-walk density.
+    zupt_sigma_mps : standard deviation of the zero-velocity pseudo-measurement.
+    init_att_sigma_rad : initial roll/pitch uncertainty (heading: init_yaw_sigma_rad).
+    init_acc_bias_sigma_mps2, init_gyr_bias_sigma_rps : initial bias uncertainties.
+
+    Notes
+    -----
+    A boot sees impacts and vibration that no datasheet lists, so the densities are set well
+    above a MEMS datasheet's (as OpenShoe and pyshoe do); their ratio to zupt_sigma_mps is
+    what matters. Defaults were chosen on the pyshoe VICON trials (see README, accuracy).
+
+    """
+
+    acc_noise_mps2_sqrt_hz: float = 0.05
+    gyr_noise_rps_sqrt_hz: float = 0.005
+    acc_bias_walk_mps3_sqrt_hz: float = 1e-4
+    gyr_bias_walk_rps2_sqrt_hz: float = 1e-5
+    zupt_sigma_mps: float = 0.01
+    init_att_sigma_rad: float = math.radians(1.0)
+    init_yaw_sigma_rad: float = math.radians(0.1)
+    init_acc_bias_sigma_mps2: float = 0.1
+    init_gyr_bias_sigma_rps: float = math.radians(0.5)
+
+    def __post_init__(self):
+        for name in self.__dataclass_fields__:
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f'{name} = {value} must be a positive finite number')
+
+
+def _flat_block_indices(rows: slice, cols: slice) -> np.ndarray:
+    return np.ravel_multi_index(np.meshgrid(np.arange(N_STATES)[rows], np.arange(N_STATES)[cols],
+                                            indexing='ij'), (N_STATES, N_STATES)).ravel()
+
+
+# Where the time-varying blocks of Phi sit in its flattened storage (written in one go).
+_PHI_VARYING = np.concatenate([
+    _flat_block_indices(POS, VEL), _flat_block_indices(VEL, ATT),
+    _flat_block_indices(VEL, ACC_BIAS), _flat_block_indices(ATT, GYR_BIAS)])
+
+
+def error_transition_matrix(C_nb: np.ndarray, acc_n: np.ndarray, dt_s: float,
+                            out: np.ndarray = None) -> np.ndarray:
+    """Discrete error-state transition matrix, eq. (5): Phi = I + F dt.
+
+    F[dP, dV] = I,  F[dV, dphi] = -[f_n x],  F[dV, dba] = -C_nb,  F[dphi, dbg] = -C_nb.
+
+    Parameters
+    ----------
+    C_nb : (3, 3) attitude at the middle of the interval.
+    acc_n : (3,) specific force in the navigation frame f_n = C_nb f_b, m/s^2.
+    dt_s : interval, s.
+    out : optional (15, 15) array to fill; only the blocks above are written, so pass an
+        array that already holds the identity elsewhere.
+
+    """
+    phi = np.eye(N_STATES) if out is None else out
+    fx, fy, fz = (acc_n * dt_s).tolist()
+    minus_C_dt = (-dt_s * C_nb).ravel()
+    phi.flat[_PHI_VARYING] = np.concatenate((
+        (dt_s, 0.0, 0.0, 0.0, dt_s, 0.0, 0.0, 0.0, dt_s),
+        (0.0, fz, -fy, -fz, 0.0, fx, fy, -fx, 0.0), minus_C_dt, minus_C_dt))
+    return phi
+
+
+def process_noise(params: EkfParams, dt_s: float) -> np.ndarray:
+    """Discrete process noise, eq. (6) term Q: diagonal, density^2 * dt per block.
+
+    White noise in body axes rotated to the navigation frame stays isotropic,
+    C q I C^T = q I, so Q does not depend on attitude, and Q(dt) = Q(1 s) dt.
+    """
+    diag = np.empty(N_STATES)
+    diag[POS] = 0.0
+    diag[VEL] = params.acc_noise_mps2_sqrt_hz ** 2 * dt_s
+    diag[ACC_BIAS] = params.acc_bias_walk_mps3_sqrt_hz ** 2 * dt_s
+    diag[ATT] = params.gyr_noise_rps_sqrt_hz ** 2 * dt_s
+    diag[GYR_BIAS] = params.gyr_bias_walk_rps2_sqrt_hz ** 2 * dt_s
+    return np.diag(diag)
+
+
+def predict_covariance(P: np.ndarray, phi: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Covariance prediction, eq. (6): P(k) = Phi P(k-1) Phi^T + Q."""
+    return phi @ P @ phi.T + Q
+
+
+def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
+    """Zero-velocity update, eq. (7).
+
+    z = 0 - v_n (innovation, since the true velocity is zero), H = [0 I 0 0 0],
+    K = P H^T (H P H^T + R)^-1, dx = K z, P+ = (I - K H) P (I - K H)^T + K R K^T (Joseph form,
+    which keeps P symmetric positive definite in floating point).
+
+    Parameters
+    ----------
+    P : (15, 15) predicted covariance.
+    vel_n : (3,) estimated velocity, m/s.
+    zupt_sigma_mps : measurement noise standard deviation, R = sigma^2 I.
+
+    Returns
+    -------
+    dx : (15,) estimated error state; P : (15, 15) updated covariance;
+    nis : normalised innovation squared z^T S^-1 z (chi-square, 3 dof, if the model holds).
+
+    """
+    R = zupt_sigma_mps ** 2 * np.eye(3)
+    S = P[VEL, VEL] + R
+    S_inv = np.linalg.inv(S)
+    K = P[:, VEL] @ S_inv
+    innovation = -vel_n
+    dx = K @ innovation
+    I_KH = np.eye(N_STATES)
+    I_KH[:, VEL] -= K
+    P = I_KH @ P @ I_KH.T + K @ R @ K.T
+    return dx, P, float(innovation @ S_inv @ innovation)
+
+
+def apply_correction(q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx):
+    """Feed the estimated error back into the nominal state (closed-loop EKF reset).
+
+    p += dP, v += dV, ba += dba, bg += dbg, q_nb <- exp(dphi) * q_nb (navigation-side error).
+    """
+    q = quat_multiply(rotvec_to_quat(dx[ATT]), q_nb)
+    return (q / np.sqrt(q @ q), vel_n + dx[VEL], pos_n + dx[POS], acc_bias_b + dx[ACC_BIAS],
+            gyr_bias_b + dx[GYR_BIAS])
+
+
+def initial_covariance(params: EkfParams) -> np.ndarray:
+    """Initial covariance: position and velocity known (start at rest at the origin)."""
+    diag = np.zeros(N_STATES)
+    diag[POS] = 1e-8
+    diag[VEL] = 1e-6
+    diag[ACC_BIAS] = params.init_acc_bias_sigma_mps2 ** 2
+    diag[ATT] = (params.init_att_sigma_rad ** 2, params.init_att_sigma_rad ** 2,
+                 params.init_yaw_sigma_rad ** 2)
+    diag[GYR_BIAS] = params.init_gyr_bias_sigma_rps ** 2
+    return np.diag(diag)

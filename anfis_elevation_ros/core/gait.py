@@ -1,0 +1,253 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Gait-cycle segmentation and features, patent CN111649742A step S4, eq. (8)-(12).
+
+A gait cycle runs from the last stance sample before a swing to the first stance sample
+after it (the sample that closes the cycle). With h_j the EKF-corrected foot height of swing
+sample j relative to the stance height h_0 of the stance the swing left, j = 1..n (the
+closing sample included), the five features are
+
+    (8)  mean height       m_h  = 1/n sum_j h_j
+    (9)  height spread     s_h  = sqrt(1/n sum_j (h_j - m_h)^2)
+    (10) height change     dh   = h_n                       (end minus start)
+    (11) max height excursion   max_j |h_j|
+    (12) max pitch         max_j (theta_j - theta_0)
+
+where theta is the inclination of the foot's forward axis above the horizontal (toe up
+positive), so the pitch is relative to the stance attitude and a tilted mounting cannot bias
+it. The foot's forward axis in the IMU frame comes from a mounting rotation, or (automatic
+mode) from the direction of the first strides.
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from .errors import InputError
+
+N_FEATURES = 5
+FEATURE_NAMES = ('mean_height_m', 'std_height_m', 'height_change_m', 'max_abs_height_m',
+                 'max_pitch_rad')
+
+
+@dataclass(frozen=True)
+class GaitParams:
+    """Gait-cycle segmentation parameters.
+
+    Attributes
+    ----------
+    min_swing_s : shorter swings (detector flicker, shuffles) do not make a gait cycle.
+    max_swing_s : longer swings (crawling, ladders, a foot never at rest) make an invalid cycle.
+    min_stride_m : horizontal stride length below which a stride says nothing of the foot's
+        forward axis (turning on the spot).
+    mounting_strides : strides averaged by the automatic mounting mode.
+
+    """
+
+    min_swing_s: float = 0.15
+    max_swing_s: float = 2.5
+    min_stride_m: float = 0.3
+    mounting_strides: int = 5
+
+    def __post_init__(self):
+        if not 0.02 <= self.min_swing_s < self.max_swing_s <= 10.0:
+            raise InputError(f'need 0.02 <= min_swing_s ({self.min_swing_s}) < max_swing_s '
+                             f'({self.max_swing_s}) <= 10 s')
+        if not 0.05 <= self.min_stride_m <= 2.0:
+            raise InputError(f'min_stride_m = {self.min_stride_m} is outside [0.05, 2.0]')
+        if not 1 <= self.mounting_strides <= 100:
+            raise InputError(f'mounting_strides = {self.mounting_strides} is outside [1, 100]')
+
+
+@dataclass(frozen=True)
+class GaitCycle:
+    """One gait cycle, as the IMU node publishes it.
+
+    Attributes
+    ----------
+    stamp_ns : stamp of the first stance sample that closes the cycle.
+    start_stamp_ns : stamp of the last stance sample before the swing.
+    pos_n : (3,) EKF-corrected position at the closing sample, m, ENU.
+    features : (5,) eq. (8)-(12), in FEATURE_NAMES order (m, m, m, m, rad).
+    valid : False when the swing was too long or had a gap in its samples; such a cycle's
+        features describe no stride and are not classified.
+
+    """
+
+    stamp_ns: int
+    start_stamp_ns: int
+    pos_n: np.ndarray
+    features: np.ndarray
+    valid: bool
+
+    @property
+    def height_change_m(self) -> float:
+        """Raw EKF height change over the cycle, eq. (10)."""
+        return float(self.features[2])
+
+
+def height_features(height_m: np.ndarray) -> np.ndarray:
+    """Height features eq. (8)-(11) of one cycle.
+
+    Parameters
+    ----------
+    height_m : (n,) foot height of each swing sample and of the closing stance sample,
+        relative to the stance height h_0, m.
+
+    Returns
+    -------
+    (4,) [mean, std, end minus start, max |h|], m.
+
+    """
+    return np.array([height_m.mean(), height_m.std(), height_m[-1], np.abs(height_m).max()])
+
+
+def foot_inclination(up_b: np.ndarray, forward_b: np.ndarray) -> np.ndarray:
+    """Inclination of the foot's forward axis above the horizontal, rad (toe up positive).
+
+    theta = asin(f_b . u_b), with u_b the navigation up axis seen in the body frame
+    (the third row of C_nb) and f_b the unit forward axis of the foot in the body frame.
+
+    Parameters
+    ----------
+    up_b : (..., 3) up axis in the body frame at each sample.
+    forward_b : (3,) foot forward axis in the body frame.
+
+    """
+    return np.arcsin(np.clip(up_b @ forward_b, -1.0, 1.0))
+
+
+def max_relative_pitch(up_b: np.ndarray, up_b_stance: np.ndarray,
+                       forward_b: np.ndarray) -> float:
+    """Max pitch during the swing relative to the stance attitude, eq. (12), rad."""
+    return float(np.max(foot_inclination(up_b, forward_b))
+                 - foot_inclination(up_b_stance, forward_b))
+
+
+def horizontal_direction_b(displacement_n: np.ndarray, C_nb: np.ndarray):
+    """Unit horizontal direction of a displacement, in the body frame of an attitude, or None.
+
+    The navigation-frame displacement with its vertical part removed is rotated into the body
+    frame, d_b = C_nb^T d_h; None when it is shorter than 1 mm.
+    """
+    d_h = np.array([displacement_n[0], displacement_n[1], 0.0])
+    norm = math.hypot(d_h[0], d_h[1])
+    return None if norm < 1e-3 else C_nb.T @ d_h / norm
+
+
+class MountingEstimator:
+    """Foot forward axis in the IMU frame: given, or learnt from the first strides.
+
+    Automatic mode averages the horizontal direction of the first ``mounting_strides``
+    strides longer than ``min_stride_m``, each seen in the body frame of the stance it left;
+    until then each cycle uses its own direction. A firefighter walks forwards when starting,
+    so the average is the foot's forward axis.
+    """
+
+    def __init__(self, params: GaitParams, C_fb: np.ndarray = None):
+        self._params = params
+        self._sum_b = np.zeros(3)
+        self._count = 0
+        self.forward_b = None if C_fb is None else C_fb[0, :].copy()
+        self.fixed = C_fb is not None
+
+    def forward_for_cycle(self, stride_n: np.ndarray, C_nb_stance: np.ndarray):
+        """Forward axis to use for this cycle's pitch (learning from it in automatic mode)."""
+        if self.fixed:
+            return self.forward_b
+        long_enough = math.hypot(stride_n[0], stride_n[1]) >= self._params.min_stride_m
+        direction_b = horizontal_direction_b(stride_n, C_nb_stance) if long_enough else None
+        if direction_b is None:
+            return self.forward_b
+        self._sum_b += direction_b
+        self._count += 1
+        if self._count >= self._params.mounting_strides:
+            self.forward_b = self._sum_b / np.linalg.norm(self._sum_b)
+            self.fixed = True
+            return self.forward_b
+        return direction_b
+
+
+class GaitSegmenter:
+    """Cuts the corrected track into gait cycles and computes their features, sample by sample.
+
+    ``update`` takes each navigated sample and returns a ``GaitCycle`` on the sample that
+    closes one, else None. Memory is bounded: a swing longer than ``max_swing_s`` stops
+    collecting samples and yields an invalid cycle.
+    """
+
+    def __init__(self, params: GaitParams, rate_hz: float, mounting: MountingEstimator):
+        self._params = params
+        self._mounting = mounting
+        self._max_samples = int(params.max_swing_s * rate_hz) + 2
+        self._in_swing = False
+        self._stance_stamp_ns = None
+        self._stance_pos_n = None
+        self._stance_C_nb = None
+        self._heights = []
+        self._up_b = []
+        self._gap = False
+
+    def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
+               gap: bool = False):
+        """Add one navigated sample; return the GaitCycle it closes, or None.
+
+        Parameters
+        ----------
+        stamp_ns : sample stamp.
+        stance : zero-velocity decision for the sample.
+        pos_n : (3,) corrected position, m.
+        C_nb : (3, 3) corrected attitude.
+        gap : True when samples are missing before this one.
+
+        """
+        if stance and not self._in_swing:
+            self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
+            return None
+        if self._stance_pos_n is None:
+            return None
+        if not self._in_swing:
+            self._in_swing = True
+            self._heights.clear()
+            self._up_b.clear()
+            self._gap = False
+        self._gap = self._gap or gap
+        if len(self._heights) < self._max_samples:
+            self._heights.append(pos_n[2] - self._stance_pos_n[2])
+            self._up_b.append(C_nb[2, :])
+        if not stance:
+            return None
+        self._in_swing = False
+        cycle = self._close(stamp_ns, pos_n)
+        self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
+        return cycle
+
+    def _close(self, stamp_ns, pos_n):
+        swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
+        if swing_s < self._params.min_swing_s:
+            return None
+        features = np.empty(N_FEATURES)
+        features[:4] = height_features(np.asarray(self._heights))
+        forward_b = self._mounting.forward_for_cycle(pos_n - self._stance_pos_n,
+                                                     self._stance_C_nb)
+        if forward_b is None:
+            # Not a single stride yet: the stance's most horizontal body axis stands in.
+            up_b = self._stance_C_nb[2, :]
+            forward_b = np.eye(3)[int(np.argmin(np.abs(up_b)))]
+        features[4] = max_relative_pitch(np.asarray(self._up_b), self._stance_C_nb[2, :],
+                                         forward_b)
+        valid = swing_s <= self._params.max_swing_s and not self._gap
+        return GaitCycle(stamp_ns, self._stance_stamp_ns, pos_n.copy(), features, valid)
