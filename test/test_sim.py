@@ -1,0 +1,441 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Tests of the foot-IMU simulator: physics, truth bookkeeping, scenarios, IMU error presets."""
+
+import dataclasses
+import math
+
+from anfis_elevation_ros.core import sim
+from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.frames import rpy_to_dcm
+from anfis_elevation_ros.core.strapdown import strapdown
+import numpy as np
+import pytest
+
+G = 9.80665
+DEG = math.pi / 180.0
+
+# About 10 s with every kind of motion: turn while walking, stairs up (2 steps per stride),
+# turn on the spot, stairs down (1 step per stride), a level stride.
+PHYSICS_WALK = (sim.Segment.level(2, turn_deg=60.0), sim.Segment.stairs(4, +1),
+                sim.Segment.turn(-90.0), sim.Segment.stairs(2, -1, steps_per_stride=1),
+                sim.Segment.level(1))
+
+
+def quat_to_dcm_batch(q):
+    """(N, 3, 3) rotation matrices of (N, 4) unit quaternions [w, x, y, z]."""
+    w, x, y, z = q.T
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+    ], -2)
+
+
+def ideal_strapdown_errors(rate_hz, mounting_rpy_deg=(10.0, -25.0, 40.0)):
+    """Max position (m) and attitude (rad) error of free strapdown on the ideal preset."""
+    walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(5), rate_hz=rate_hz,
+                             imu='ideal', mounting_rpy_deg=mounting_rpy_deg,
+                             initial_stand_s=2.0, final_stand_s=0.5)
+    quat, _, pos = strapdown(walk.quat_nb[0], walk.vel_n[0], walk.pos_n[0], walk.stamp_ns,
+                             walk.acc_b, walk.gyr_b, gravity_mps2=walk.gravity_mps2)
+    pos_err = np.linalg.norm(pos - walk.pos_n, axis=1).max()
+    att_err = 2 * np.arccos(np.clip(np.abs(np.sum(quat * walk.quat_nb, axis=1)), 0, 1)).max()
+    return walk, pos_err, att_err
+
+
+def test_ideal_imu_strapdown_reproduces_truth():
+    walk, pos_err_400, att_err_400 = ideal_strapdown_errors(400.0)
+    assert 9.0 < walk.duration_s < 12.0
+    assert walk.strides.mode.tolist().count(1) == 2 and walk.strides.mode.tolist().count(-1) == 2
+    # The only error left is the integrator's: its trapezoidal rule is second order and these
+    # swings are fast (pitch rates to 8 rad/s): measured 2.2 cm / 0.007 deg at 400 Hz. A sign or
+    # frame error in the signals would give metres and whole degrees.
+    assert pos_err_400 < 0.04
+    assert att_err_400 < 0.03 * DEG
+    # Exact signals make the error shrink as dt^2 (a ratio of 4 per halving of dt); an error in
+    # the signals themselves would not shrink with the sample rate.
+    _, pos_err_200, att_err_200 = ideal_strapdown_errors(200.0)
+    assert 3.0 < pos_err_200 / pos_err_400 < 5.5
+    assert 3.0 < att_err_200 / att_err_400 < 5.5
+
+
+def test_ideal_signals_match_attitude_and_velocity_derivatives():
+    # Independent of the strapdown code: central differences of the truth at 2 kHz.
+    walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(2), rate_hz=2000.0,
+                             imu='ideal', mounting_rpy_deg=(180.0, 0.0, 0.0))
+    dt = 1.0 / walk.rate_hz
+    C = quat_to_dcm_batch(walk.quat_nb)
+    acc_n = (walk.vel_n[2:] - walk.vel_n[:-2]) / (2 * dt)
+    f_b = np.einsum('nji,nj->ni', C[1:-1], acc_n + [0.0, 0.0, G])
+    # Central differences are accurate to dt^2 * snap / 6 (< 0.01 m/s^2 against peaks of 30) but
+    # the chains are C2, not C3: next to a knot the jerk jumps and the difference errs by up to
+    # dt * jump / 8 (measured 0.22 m/s^2 at 2 kHz). A frame or sign error would be ~10 m/s^2.
+    err = np.abs(f_b - walk.acc_b[1:-1]).max(axis=1)
+    assert np.percentile(err, 99) < 0.01
+    assert err.max() < 0.5
+    # Body rate from the attitude increment: C_k^T C_(k+1) ~ I + [w x] dt (error ~ dt * w').
+    dC = np.einsum('nji,njk->nik', C[:-1], C[1:])
+    w_b = np.stack([dC[:, 2, 1] - dC[:, 1, 2], dC[:, 0, 2] - dC[:, 2, 0],
+                    dC[:, 1, 0] - dC[:, 0, 1]], -1) / (2 * dt)
+    w_mid = 0.5 * (walk.gyr_b[:-1] + walk.gyr_b[1:])
+    # Second order in dt (measured 6e-4 rad/s at 2 kHz) against peaks of 8 rad/s.
+    assert np.abs(w_b - w_mid).max() < 0.002
+
+
+@pytest.mark.parametrize('mounting', [(0.0, 0.0, 0.0), (180.0, 0.0, 0.0), (30.0, -20.0, 75.0)])
+def test_at_rest_the_imu_reads_gravity_rotated_by_the_mounting(mounting):
+    walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(0), rate_hz=100.0,
+                             imu='ideal', mounting_rpy_deg=mounting)
+    C_fb = rpy_to_dcm(*(a * DEG for a in mounting))
+    expected = C_fb.T @ [0.0, 0.0, G]              # f_b = C_bf C_fn [0, 0, g], foot flat
+    # Every stance sample (start, on the stairs, after turns) has the foot flat and still.
+    assert np.allclose(walk.acc_b[walk.stance], expected, atol=1e-9, rtol=0)
+    assert np.all(walk.gyr_b[walk.stance] == 0.0)
+    # The first sample's attitude is the mounting itself (foot level, heading 0).
+    assert np.allclose(quat_to_dcm_batch(walk.quat_nb[:1])[0], C_fb, atol=1e-12)
+    assert np.all(walk.pos_n[0] == 0.0)
+    if mounting == (180.0, 0.0, 0.0):
+        assert np.allclose(walk.acc_b[0], [0.0, 0.0, -G])   # pyshoe-like z down
+
+
+def test_stance_samples_have_zero_truth_velocity_and_swings_move():
+    walk = sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(3), rate_hz=200.0,
+                             imu='ideal')
+    assert np.all(walk.vel_n[walk.stance] == 0.0)
+    moving = ~walk.stance
+    assert np.all(np.linalg.norm(walk.vel_n[moving], axis=1) > 0.0)
+    # Stance is foot flat and still for 35-50 % of each stride plus the stops: about half.
+    assert 0.4 < walk.stance.mean() < 0.7
+    # Position is constant through each stance run.
+    jumps = np.linalg.norm(np.diff(walk.pos_n, axis=0), axis=1)
+    assert np.all(jumps[walk.stance[1:] & walk.stance[:-1]] == 0.0)
+
+
+def test_stride_truth_heights_add_up_to_the_stairs():
+    segments = (sim.Segment.stairs(7, +1, steps_per_stride=3, step_height_m=0.16),
+                sim.Segment.level(2, turn_deg=180.0),
+                sim.Segment.stairs(5, +1, steps_per_stride=1, step_height_m=0.19),
+                sim.Segment.stand(3.0),
+                sim.Segment.stairs(9, -1, steps_per_stride=4),
+                sim.Segment.level(3))
+    walk = sim.simulate_walk(segments, rng=np.random.default_rng(4), rate_hz=100.0,
+                             imu='ideal', step_height_m=0.14)
+    s = walk.strides
+    expected_total = 7 * 0.16 + 5 * 0.19 - 9 * 0.14
+    assert math.isclose(s.height_change_m.sum(), expected_total, abs_tol=1e-12)
+    assert math.isclose(walk.pos_n[-1, 2], expected_total, abs_tol=1e-12)
+    assert np.allclose(s.height_m, np.cumsum(s.height_change_m), atol=1e-12)
+    assert s.n_steps.tolist() == [3, 3, 1, 0, 0, 1, 1, 1, 1, 1, 4, 4, 1, 0, 0, 0]
+    assert s.mode.tolist() == [1, 1, 1, 0, 0, 1, 1, 1, 1, 1, -1, -1, -1, 0, 0, 0]
+    assert np.allclose(np.abs(s.height_change_m), s.n_steps * s.step_height_m, atol=1e-12)
+    assert np.all(np.sign(s.height_change_m) == s.mode)
+    assert s.segment_index.tolist() == [0, 0, 0, 1, 1, 2, 2, 2, 2, 2, 4, 4, 4, 5, 5, 5]
+    # stamp_ns is the first stance sample after the swing; swing_start_ns the first moving one.
+    index = np.searchsorted(walk.stamp_ns, s.stamp_ns)
+    assert np.all(walk.stance[index]) and not np.any(walk.stance[index - 1])
+    start = np.searchsorted(walk.stamp_ns, s.swing_start_ns)
+    assert not np.any(walk.stance[start]) and np.all(walk.stance[start - 1])
+    assert np.allclose(walk.pos_n[index], s.end_pos_n, atol=1e-12)
+    assert np.allclose(walk.pos_n[start - 1], s.start_pos_n, atol=1e-12)
+    # Flights move one tread (0.28 m) per step along the heading.
+    flight = s.mode != 0
+    run = np.linalg.norm(s.end_pos_n[flight, :2] - s.start_pos_n[flight, :2], axis=1)
+    assert np.allclose(run, 0.28 * s.n_steps[flight], atol=1e-12)
+    assert math.isclose(s.heading_change_rad[3:5].sum(), math.pi, abs_tol=1e-12)
+
+
+def test_building_walk_matches_the_issue_description():
+    segments = sim.building_walk()
+    walk = sim.simulate_walk(segments, rng=np.random.default_rng(7), rate_hz=100.0,
+                             imu='ideal')
+    s = walk.strides
+    down, up = s.mode == -1, s.mode == 1
+    assert s.n_steps[down].sum() == 36 and s.n_steps[up].sum() == 36
+    assert np.allclose(s.step_height_m[down | up], 0.15)
+    assert math.isclose(walk.pos_n[:, 2].min(), -5.4, abs_tol=1e-9)    # 36 x 0.15 m down
+    assert math.isclose(walk.pos_n[-1, 2], 0.0, abs_tol=1e-9)          # and back up
+    # Two flights of 18 each way, down first, joined by a 180 deg landing turn.
+    flights = [seg for seg in segments if seg.kind == 'stairs']
+    assert [(f.direction, f.n_steps) for f in flights] == [(-1, 18)] * 2 + [(1, 18)] * 2
+    assert np.flatnonzero(down).max() < np.flatnonzero(up).min()
+    # About 640 s in all (stride times are random: +-3 %) and about 500 s between the flights.
+    assert 620.0 < walk.duration_s < 660.0
+    level_s = (s.swing_start_ns[np.flatnonzero(up)[0]] - s.stamp_ns[np.flatnonzero(down)[-1]])
+    assert 470.0 < level_s * 1e-9 < 530.0
+    kinds = {seg.kind for seg in segments}
+    assert kinds == {'level', 'stairs', 'turn', 'stand'}
+    assert any(seg.kind == 'level' and seg.turn_deg != 0.0 for seg in segments)
+
+
+def test_random_walk_varies_with_the_seed_and_spans_the_gait_ranges():
+    plans = [sim.random_walk(300.0, np.random.default_rng(seed)) for seed in range(6)]
+    assert plans[0] != plans[1]
+    assert plans[0] == sim.random_walk(300.0, np.random.default_rng(0))
+    flights = [seg for plan in plans for seg in plan if seg.kind == 'stairs']
+    heights = np.array([f.step_height_m for f in flights])
+    assert np.all((heights >= 0.14) & (heights <= 0.19)) and np.ptp(heights) > 0.03
+    per_stride = np.array([f.steps_per_stride for f in flights])
+    assert set(per_stride) <= {1, 2, 3, 4}
+    assert np.mean(per_stride <= 2) > 0.6                    # mostly 1-2 steps per stride
+    assert {f.direction for f in flights} == {-1, 1}
+    walk = sim.simulate_walk(plans[2], rng=np.random.default_rng(2), rate_hz=100.0,
+                             imu='ideal')
+    # Planned with mid-range stride times; it overshoots by at most one activity.
+    assert 270.0 < walk.duration_s < 360.0
+    with pytest.raises(InputError, match='steps_per_stride_weights'):
+        sim.random_walk(60.0, np.random.default_rng(0), steps_per_stride_weights=(1, 1))
+
+
+def test_sample_walk_is_a_short_demo_up_and_down():
+    walk = sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(1), rate_hz=100.0,
+                             imu='ideal')
+    assert 60.0 < walk.duration_s < 90.0
+    assert math.isclose(walk.strides.height_m.max(), 14 * 0.17, abs_tol=1e-9)
+    assert math.isclose(walk.pos_n[-1, 2], 0.0, abs_tol=1e-9)
+    # The navigator levels itself at rest first: at least 2 s of stance.
+    assert np.all(walk.stance[:int(2.0 * walk.rate_hz) + 1])
+    assert np.all(walk.stance[-int(1.0 * walk.rate_hz):])
+
+
+def test_foot_elevation_follows_the_gait_of_each_mode():
+    walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(8), rate_hz=200.0,
+                             imu='ideal')
+    # Elevation of the foot's x axis (toe up positive); with identity mounting b = f.
+    toe_z = quat_to_dcm_batch(walk.quat_nb)[:, 2, 0]
+    elevation_deg = np.degrees(np.arcsin(toe_z))
+    s = walk.strides
+    for i in range(len(s)):
+        swing = (walk.stamp_ns >= s.swing_start_ns[i]) & (walk.stamp_ns < s.stamp_ns[i])
+        e = elevation_deg[swing]
+        last = e[int(0.85 * len(e)) - 1]         # at the landing knot, u = 0.85
+        if s.mode[i] == 0 and s.n_steps[i] == 0 and np.any(s.start_pos_n[i] != s.end_pos_n[i]):
+            assert -50.0 <= e.min() < -29.0 and 9.0 < e.max() <= 20.0   # toe-off, heel strike
+        elif s.mode[i] == 1:
+            assert -30.0 <= e.min() < -14.0 and e.max() <= 6.0          # lands about flat
+        elif s.mode[i] == -1:
+            assert -20.0 <= last < -7.0                                 # toe lands first
+
+
+def _sole_margin(walk, imu_height_m=0.07, toe_m=0.12, heel_m=0.10, tread_m=0.28):
+    """Min over swing samples of the sole's height above the stair surface, per flight stride."""
+    C = quat_to_dcm_batch(walk.quat_nb)
+    sole_f = np.array([[x, 0.0, -imu_height_m] for x in np.linspace(-heel_m, toe_m, 9)])
+    s = walk.strides
+    margins = []
+    for i in np.flatnonzero(s.mode != 0):
+        swing = (walk.stamp_ns >= s.swing_start_ns[i]) & (walk.stamp_ns <= s.stamp_ns[i])
+        points = walk.pos_n[swing, None, :] + np.einsum('nij,pj->npi', C[swing], sole_f)
+        ahead = s.end_pos_n[i, :2] - s.start_pos_n[i, :2]
+        ahead /= np.linalg.norm(ahead)
+        along = (points[..., :2] - s.start_pos_n[i, :2]) @ ahead
+        # Tread j (0 = the start tread) spans along in [(j - 1/2), (j + 1/2)] treads.
+        j = np.clip(np.floor(along / tread_m + 0.5), 0, s.n_steps[i])
+        surface = s.start_pos_n[i, 2] - imu_height_m + s.mode[i] * j * s.step_height_m[i]
+        margins.append((points[..., 2] - surface).min())
+    return np.array(margins)
+
+
+def test_the_swinging_foot_clears_the_stair_noses():
+    segments = []
+    for n in (1, 2, 3, 4):
+        for k in (0.14, 0.19):
+            segments += [sim.Segment.stairs(2 * n, +1, steps_per_stride=n, step_height_m=k),
+                         sim.Segment.stairs(2 * n, -1, steps_per_stride=n, step_height_m=k)]
+    walk = sim.simulate_walk(segments, rng=np.random.default_rng(9), rate_hz=200.0,
+                             imu='ideal')
+    margins = _sole_margin(walk)
+    assert len(margins) == 32
+    # A rigid 22 cm sole 7 cm under the IMU never goes into the stairs (1 mm for rounding at
+    # the contact points: the sole touches the tread at the start and end of each swing).
+    assert margins.min() > -1e-3
+
+
+def test_same_seed_same_walk_and_other_seed_differs():
+    def run(seed, imu='consumer'):
+        return sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(seed),
+                                 rate_hz=100.0, imu=imu)
+    a, b, c = run(11), run(11), run(12)
+    for name in ('stamp_ns', 'acc_b', 'gyr_b', 'pos_n', 'quat_nb', 'stance'):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert np.array_equal(a.strides.stamp_ns, b.strides.stamp_ns)
+    assert not np.array_equal(a.pos_n, c.pos_n)
+    assert not np.array_equal(a.acc_b, c.acc_b)
+    # The gait and the IMU errors draw from separate streams: same trajectory for any preset.
+    ideal = run(11, imu='ideal')
+    assert np.array_equal(ideal.pos_n, a.pos_n) and not np.array_equal(ideal.acc_b, a.acc_b)
+
+
+@pytest.mark.parametrize('rate_hz', [100.0, 200.0, 400.0])
+def test_stamps_are_regular_from_the_epoch(rate_hz):
+    walk = sim.simulate_walk((sim.Segment.level(1),), rng=np.random.default_rng(0),
+                             rate_hz=rate_hz, imu='ideal')
+    assert walk.stamp_ns.dtype == np.int64 and walk.stamp_ns[0] == sim.EPOCH_NS
+    assert np.all(np.diff(walk.stamp_ns) == round(1e9 / rate_hz))
+    recording = walk.to_recording('left_foot_imu')
+    assert recording.frame_id == 'left_foot_imu'
+    assert math.isclose(recording.rate_hz, rate_hz)
+    assert np.array_equal(recording.acc_b, walk.acc_b)
+
+
+# ----------------------------------------------------------------------------------------------
+# IMU error presets
+# ----------------------------------------------------------------------------------------------
+
+def _static_readings(model, rate_hz, n, seed):
+    acc = np.tile([0.0, 0.0, G], (n, 1))
+    gyr = np.zeros((n, 3))
+    return sim.apply_imu_errors(acc, gyr, rate_hz, model, np.random.default_rng(seed))
+
+
+@pytest.mark.parametrize('preset', ['tactical', 'consumer'])
+def test_white_noise_matches_the_preset_density(preset):
+    model = sim.IMU_PRESETS[preset]
+    rate_hz = 200.0
+    acc, gyr = _static_readings(model, rate_hz, 20_000, seed=1)
+    gyr_std, acc_std = model.noise_std(rate_hz)
+    t = np.arange(len(acc))
+    for measured, spec in ((acc, acc_std), (gyr, gyr_std)):
+        # Remove bias and the slow bias walk (a line per axis) before taking the std.
+        residual = measured - np.polynomial.polynomial.polyval(
+            t, np.polynomial.polynomial.polyfit(t, measured, 1)).T
+        # 60 000 samples estimate a std to 0.3 %; 10 % leaves room for quantisation (0.05 %).
+        assert np.allclose(residual.std(axis=0), spec, rtol=0.10), (preset, spec)
+    if preset == 'consumer':
+        # MPU-9250: 0.01 deg/s/sqrt(Hz) and 300 ug/sqrt(Hz) -> 0.141 deg/s and 4.2 mg at 200 Hz.
+        assert math.isclose(gyr_std, math.radians(0.01) * math.sqrt(200.0))
+        assert math.isclose(acc_std, 300e-6 * G * math.sqrt(200.0))
+
+
+def test_turn_on_bias_scale_factor_and_misalignment_match_the_preset():
+    model = sim.IMU_PRESETS['consumer']
+    seeds = range(300)
+    bias_acc, bias_gyr, m_acc, m_gyr = [], [], [], []
+    for seed in seeds:
+        acc, gyr = sim.apply_imu_errors(np.zeros((100, 3)), np.zeros((100, 3)), 200.0, model,
+                                        np.random.default_rng(seed))
+        bias_acc.append(acc.mean(axis=0))
+        bias_gyr.append(gyr.mean(axis=0))
+        # Same seed, opposite inputs: bias, walk and noise cancel in the difference, leaving
+        # the matrix (I + M) of scale factor and misalignment.
+        a, w = 100.0, 20.0
+        plus = sim.apply_imu_errors(a * np.eye(3), w * np.eye(3), 200.0, model,
+                                    np.random.default_rng(seed))
+        minus = sim.apply_imu_errors(-a * np.eye(3), -w * np.eye(3), 200.0, model,
+                                     np.random.default_rng(seed))
+        m_acc.append((plus[0] - minus[0]).T / (2 * a) - np.eye(3))
+        m_gyr.append((plus[1] - minus[1]).T / (2 * w) - np.eye(3))
+    off = ~np.eye(3, dtype=bool)
+    # 900 (diagonal) or 1800 (off-diagonal) draws estimate a std to 2.4 % / 1.7 %: 10 % is 4 sigma.
+    assert math.isclose(np.std(bias_acc), model.acc_bias_sigma_mps2, rel_tol=0.10)
+    assert math.isclose(np.std(bias_gyr), model.gyr_bias_sigma_rps, rel_tol=0.10)
+    assert math.isclose(np.std(np.array(m_acc)[:, np.eye(3, dtype=bool)]), 0.005, rel_tol=0.10)
+    assert math.isclose(np.std(np.array(m_gyr)[:, np.eye(3, dtype=bool)]), 0.005, rel_tol=0.10)
+    assert math.isclose(np.std(np.array(m_acc)[:, off]), 0.5 * DEG, rel_tol=0.10)
+    assert math.isclose(np.std(np.array(m_gyr)[:, off]), 0.5 * DEG, rel_tol=0.10)
+    # Consumer turn-on bias is 30 mg and 0.5 deg/s (1 sigma).
+    assert math.isclose(model.acc_bias_sigma_mps2, 0.030 * G)
+    assert math.isclose(model.gyr_bias_sigma_rps, 0.5 * DEG)
+
+
+def test_bias_walk_grows_with_the_square_root_of_time():
+    consumer = sim.IMU_PRESETS['consumer']
+    walk_only = sim.ImuErrorModel(gyr_bias_walk_rps_rts=consumer.gyr_bias_walk_rps_rts,
+                                  acc_bias_walk_mps2_rts=consumer.acc_bias_walk_mps2_rts)
+    ends_acc, ends_gyr = [], []
+    for seed in range(300):
+        acc, gyr = _static_readings(walk_only, 100.0, 1000, seed)   # 10 s
+        ends_acc.append(acc[-1] - [0.0, 0.0, G])
+        ends_gyr.append(gyr[-1])
+    # std after 10 s = walk * sqrt(10 s); 900 draws: 2.4 % std error, 10 % tolerance.
+    expected = math.sqrt(10.0)
+    assert math.isclose(np.std(ends_acc), consumer.acc_bias_walk_mps2_rts * expected,
+                        rel_tol=0.10)
+    assert math.isclose(np.std(ends_gyr), consumer.gyr_bias_walk_rps_rts * expected,
+                        rel_tol=0.10)
+
+
+def test_saturation_clips_and_quantisation_rounds_to_the_lsb():
+    model = sim.IMU_PRESETS['consumer']
+    gyr_lsb = model.gyr_range_rps / 2 ** 15          # 16-bit: 16.4 LSB per deg/s
+    acc_lsb = model.acc_range_mps2 / 2 ** 15          # 2048 LSB per g
+    assert math.isclose(1.0 / math.degrees(gyr_lsb), 16.384)
+    assert math.isclose(G / acc_lsb, 2048.0)
+    true_acc = np.array([[300.0, -300.0, 9.8], [0.0, 50.0, -50.0]])
+    true_gyr = np.array([[60.0, -60.0, 1.0], [0.0, 20.0, -20.0]])
+    acc, gyr = sim.apply_imu_errors(true_acc, true_gyr, 200.0, model,
+                                    np.random.default_rng(0))
+    assert acc[0, 0] == model.acc_range_mps2 - acc_lsb and acc[0, 1] == -model.acc_range_mps2
+    assert gyr[0, 0] == model.gyr_range_rps - gyr_lsb and gyr[0, 1] == -model.gyr_range_rps
+    assert np.all(np.abs(acc[1, 1:] - true_acc[1, 1:]) < 2.0)   # in range: not clipped
+    assert np.allclose(acc / acc_lsb, np.round(acc / acc_lsb), rtol=0, atol=1e-9)
+    assert np.allclose(gyr / gyr_lsb, np.round(gyr / gyr_lsb), rtol=0, atol=1e-9)
+    # In a simulated walk: a +-3 g, +-300 deg/s part clips the foot's swing peaks.
+    small = sim.ImuErrorModel(acc_range_mps2=3 * G, gyr_range_rps=300 * DEG)
+    ideal = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(3), imu='ideal')
+    clipped = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(3), imu=small)
+    assert np.abs(ideal.gyr_b).max() > 300 * DEG and np.abs(ideal.acc_b).max() > 3 * G
+    assert np.abs(clipped.gyr_b).max() == 300 * DEG
+    assert np.abs(clipped.acc_b).max() == 3 * G
+
+
+def test_ideal_preset_changes_nothing_and_presets_are_named():
+    acc = np.random.default_rng(0).normal(size=(50, 3))
+    out_acc, out_gyr = sim.apply_imu_errors(acc, -acc, 200.0, sim.IMU_PRESETS['ideal'],
+                                            np.random.default_rng(1))
+    assert np.array_equal(out_acc, acc) and np.array_equal(out_gyr, -acc)
+    assert sim.imu_error_model('tactical') is sim.IMU_PRESETS['tactical']
+    assert sim.IMU_PRESETS['ideal'].is_ideal and not sim.IMU_PRESETS['tactical'].is_ideal
+    tactical = sim.IMU_PRESETS['tactical']
+    # Tactical: ARW 0.1 deg/sqrt(h), 1 deg/h bias, VRW 0.03 m/s/sqrt(h), 0.5 mg bias.
+    assert math.isclose(math.degrees(tactical.gyr_noise_density_rps_rthz) * 60.0, 0.1)
+    assert math.isclose(math.degrees(tactical.gyr_bias_sigma_rps) * 3600.0, 1.0)
+    assert math.isclose(tactical.acc_noise_density_mps2_rthz * 60.0, 0.03)
+    assert math.isclose(tactical.acc_bias_sigma_mps2, 0.5e-3 * G)
+
+
+# ----------------------------------------------------------------------------------------------
+# Bad input
+# ----------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize('make, field', [
+    (lambda: sim.Segment.stairs(10, 0), 'direction'),
+    (lambda: sim.Segment.stairs(10, 1, steps_per_stride=5), 'steps_per_stride'),
+    (lambda: sim.Segment.stairs(10, 1, step_height_m=0.5), 'step_height_m'),
+    (lambda: sim.Segment.level(0), 'n_strides'),
+    (lambda: sim.Segment.stand(-1.0), 'duration_s'),
+    (lambda: sim.Segment('hop'), 'kind'),
+    (lambda: sim.GaitParams(level_stride_s=(1.2, 0.9)), 'level_stride_s'),
+    (lambda: sim.ImuErrorModel(gyr_noise_density_rps_rthz=-1.0), 'gyr_noise_density'),
+    (lambda: sim.ImuErrorModel(adc_bits=16), 'adc_bits'),
+    (lambda: sim.imu_error_model('navigation-grade'), 'consumer'),
+    (lambda: sim.simulate_walk((sim.Segment.level(1),), rng=np.random.default_rng(0),
+                               rate_hz=20.0), 'rate_hz'),
+    (lambda: sim.simulate_walk((sim.Segment.level(1),), rng=np.random.default_rng(0),
+                               initial_stand_s=1.0), 'initial_stand_s'),
+    (lambda: sim.simulate_walk((sim.Segment.level(1),), rng=np.random.default_rng(0),
+                               mounting_rpy_deg=(0.0, 0.0)), 'mounting_rpy_deg'),
+    (lambda: sim.simulate_walk((sim.Segment.level(1),), rng=1), 'Generator'),
+    (lambda: sim.simulate_walk((), rng=np.random.default_rng(0)), 'Segment'),
+])
+def test_bad_parameters_raise_input_error_naming_the_field(make, field):
+    with pytest.raises(InputError, match=field):
+        make()
+
+
+def test_segments_and_results_are_frozen():
+    segment = sim.Segment.level(3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        segment.n_strides = 4
