@@ -1,0 +1,223 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Tests of the stair mode (eq. 13), height quantisation (eq. 14), floor index and tracker."""
+
+from anfis_elevation_ros import Anfis
+from anfis_elevation_ros.core.anfis import grid_partition
+from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.height import (
+    CycleEstimate, ElevationParams, ElevationTracker, FEATURE_NAMES, floor_index, HEIGHT_CHANGE,
+    quantised_height_step, quantised_step_count, round_half_away, stair_mode)
+import numpy as np
+import pytest
+
+
+class ScriptedModel:
+    """Stand-in for the ANFIS: returns a scripted output per call and records its inputs."""
+
+    n_inputs = 5
+
+    def __init__(self, outputs):
+        self.outputs = list(outputs)
+        self.seen = []
+
+    def predict(self, x):
+        self.seen.append(np.array(x))
+        return np.array([self.outputs[len(self.seen) - 1]])
+
+
+def _features(dh_m):
+    features = np.array([dh_m / 2.0, abs(dh_m) / 3.0, 0.0, abs(dh_m) + 0.02, 0.3])
+    features[HEIGHT_CHANGE] = dh_m
+    return features
+
+
+# ------------------------------------------------------------------------------ eq. 13
+
+EQ13_TABLE = [   # (y, sigma_th, C)
+    (0.9, 0.5, 1), (0.5000001, 0.5, 1), (0.5, 0.5, 0), (0.0, 0.5, 0), (-0.5, 0.5, 0),
+    (-0.5000001, 0.5, -1), (-3.0, 0.5, -1), (0.0, 0.0, 0), (1e-12, 0.0, 1), (-1e-12, 0.0, -1),
+    (1.0, 1.0, 0), (1.01, 1.0, 1)]
+
+
+def test_stair_mode_table_including_boundaries():
+    for y, threshold, expected in EQ13_TABLE:
+        mode = stair_mode(y, threshold)
+        assert mode == expected and isinstance(mode, int), (y, threshold)
+
+
+def test_stair_mode_is_vectorised():
+    y = np.array([row[0] for row in EQ13_TABLE if row[1] == 0.5]).reshape(-1, 1)
+    expected = [row[2] for row in EQ13_TABLE if row[1] == 0.5]
+    modes = stair_mode(y, 0.5)
+    assert modes.shape == y.shape and modes.dtype == np.int64
+    assert modes.ravel().tolist() == expected
+
+
+def test_stair_mode_rejects_nan_and_negative_threshold():
+    with pytest.raises(ValueError, match='NaN'):
+        stair_mode(np.array([0.1, np.nan]), 0.5)
+    with pytest.raises(ValueError, match='threshold'):
+        stair_mode(0.1, -0.5)
+
+
+# ------------------------------------------------------------------------------ eq. 14
+
+EQ14_TABLE = [   # (C, dh m, K m, expected h_i - h_i-1 m), worked by hand
+    (1, 0.16, 0.15, 0.15),     # round(1.07) = 1
+    (1, 0.31, 0.15, 0.30),     # round(2.07) = 2
+    (1, 0.05, 0.15, 0.15),     # round(0.33) = 0 -> max(1, 0) = 1: stairs climb at least a step
+    (-1, -0.46, 0.15, -0.45),  # round(3.07) = 3, sign from C
+    (-1, 0.02, 0.17, -0.17),   # sign comes from the mode, not from dh
+    (0, 0.30, 0.15, 0.0),      # level: no change whatever dh says
+    (0, -0.9, 0.17, 0.0),
+    (1, 0.375, 0.25, 0.5),     # |dh| / K = 1.5 exactly: half rounds away from zero -> 2
+    (1, 0.625, 0.25, 0.75),    # 2.5 exactly -> 3 (round-half-even would give 2)
+]
+
+
+def test_quantised_height_step_table():
+    for mode, dh, step, expected in EQ14_TABLE:
+        # 1e-12 m: K * n is one float product, off from the decimal value by < 1 ulp.
+        assert quantised_height_step(mode, dh, step) == pytest.approx(expected, abs=1e-12), \
+            (mode, dh, step)
+        assert isinstance(quantised_step_count(mode, dh, step), int)
+
+
+def test_quantised_height_step_is_vectorised():
+    rows = [row for row in EQ14_TABLE if row[2] == 0.15]
+    modes = np.array([row[0] for row in rows])
+    dh = np.array([row[1] for row in rows])
+    np.testing.assert_allclose(quantised_height_step(modes, dh, 0.15), [row[3] for row in rows],
+                               rtol=0.0, atol=1e-12)
+    assert quantised_step_count(modes, dh, 0.15).tolist() == [1, 2, 1, -3, 0]
+
+
+def test_round_half_away_from_zero():
+    values = np.array([-2.5, -1.5, -0.5, -0.49, 0.0, 0.49, 0.5, 1.5, 2.5])
+    np.testing.assert_array_equal(round_half_away(values), [-3, -2, -1, 0, 0, 0, 1, 2, 3])
+
+
+# ------------------------------------------------------------------------------ floor index
+
+def test_floor_index_at_boundaries():
+    # Exactly half a storey counts as the next floor away from the start (round half away).
+    table = [(0.0, 0), (1.49, 0), (1.5, 1), (-1.5, -1), (-1.49, 0), (4.49, 1), (4.5, 2),
+             (7.5, 3), (-7.5, -3), (3.0, 1), (-3.0, -1)]
+    for height, expected in table:
+        floor = floor_index(height, 3.0, 0)
+        assert floor == expected and isinstance(floor, int), height
+    assert floor_index(1.5, 3.0, 2) == 3
+    assert floor_index(-1.5, 3.0, -1) == -2
+    heights = np.array([row[0] for row in table])
+    assert floor_index(heights, 3.0, 4).tolist() == [row[1] + 4 for row in table]
+
+
+# ------------------------------------------------------------------------------ parameters
+
+@pytest.mark.parametrize('field, value', [
+    ('step_height_m', 0.09), ('step_height_m', 0.26), ('step_height_m', float('nan')),
+    ('mode_threshold', -0.1), ('mode_threshold', 1.1), ('floor_height_m', 1.9),
+    ('floor_height_m', float('inf')), ('start_floor', 1.0), ('start_floor', True),
+    ('start_height_m', float('nan')), ('step_height_m', '0.17')])
+def test_elevation_params_reject_out_of_range(field, value):
+    with pytest.raises(ValueError, match=field):
+        ElevationParams(**{field: value})
+
+
+def test_elevation_params_defaults_and_limits():
+    params = ElevationParams()
+    assert (params.step_height_m, params.mode_threshold, params.floor_height_m,
+            params.start_floor, params.start_height_m) == (0.17, 0.5, 3.0, 0, 0.0)
+    ElevationParams(step_height_m=0.10, mode_threshold=0.0, floor_height_m=2.0)
+    ElevationParams(step_height_m=0.25, mode_threshold=1.0, start_floor=-2)
+
+
+# ------------------------------------------------------------------------------ tracker
+
+def test_tracker_follows_a_scripted_sequence():
+    outputs = [0.9, 0.9, 0.1, -0.8, -0.7, 0.6]
+    dh = [0.16, 0.31, 0.02, -0.46, -0.05, 0.14]
+    model = ScriptedModel(outputs)
+    tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15))
+    estimates = [tracker.update(100 + i, _features(d), float(i), -float(i))
+                 for i, d in enumerate(dh)]
+    assert [e.mode for e in estimates] == [1, 1, 0, -1, -1, 1]
+    # Hand-computed: +0.15, +0.30, 0, -0.45, -0.15 (max(1, round(0.33))), +0.15.
+    np.testing.assert_allclose([e.height_m for e in estimates],
+                               [0.15, 0.45, 0.45, 0.0, -0.15, 0.0], rtol=0.0, atol=1e-12)
+    assert estimates[3] == CycleEstimate(stamp_ns=103, mode=-1, height_m=estimates[3].height_m,
+                                         floor=0, x_m=3.0, y_m=-3.0, anfis_output=-0.8)
+    assert estimates[4].height_m == pytest.approx(-0.15, abs=1e-12)
+    assert tracker.height_m == estimates[-1].height_m
+    assert model.seen[0].shape == (1, len(FEATURE_NAMES))
+
+
+def test_tracker_counts_whole_steps_and_changes_floor():
+    params = ElevationParams(step_height_m=0.15, floor_height_m=3.0, start_floor=2)
+    tracker = ElevationTracker(ScriptedModel([1.0] * 30), params)
+    floors = [tracker.update(i, _features(0.15), 0.0, 0.0).floor for i in range(30)]
+    # 10 steps = 1.50 m exactly half a storey -> floor 3; 29 steps = 4.35 m -> floor 3; 30 -> 4.5.
+    assert floors[8] == 2 and floors[9] == 3 and floors[28] == 3 and floors[29] == 4
+    assert tracker.height_m == 30 * 0.15                      # integer steps: no drift
+    assert tracker.floor == 4
+
+
+def test_tracker_with_a_real_anfis_of_known_consequents():
+    # Every rule says y = dh / 0.17, so the network output is exactly that (the normalised
+    # strengths sum to 1); the mode then follows |dh| > 0.085 m.
+    universe = np.array([[-1.0, 1.0]] * 5)
+    consequents = np.zeros((243, 6))
+    consequents[:, HEIGHT_CHANGE] = 1.0 / 0.17
+    model = Anfis.from_params(grid_partition(universe, 3, 'triangle'), consequents, universe)
+    tracker = ElevationTracker(model, ElevationParams())
+    dh = [0.18, 0.17, 0.05, -0.35, -0.09]
+    estimates = [tracker.update(i, _features(d), 0.0, 0.0) for i, d in enumerate(dh)]
+    np.testing.assert_allclose([e.anfis_output for e in estimates], np.array(dh) / 0.17,
+                               rtol=1e-12)
+    assert [e.mode for e in estimates] == [1, 1, 0, -1, -1]
+    np.testing.assert_allclose([e.height_m for e in estimates],
+                               [0.17, 0.34, 0.34, 0.0, -0.17], rtol=0.0, atol=1e-12)
+
+
+def test_tracker_rejects_bad_cycles_and_keeps_its_state():
+    tracker = ElevationTracker(ScriptedModel([1.0, 1.0]), ElevationParams())
+    tracker.update(0, _features(0.17), 0.0, 0.0)
+    height = tracker.height_m
+    bad = _features(0.17)
+    bad[1] = np.nan
+    for features, x_m, match in [(bad, 0.0, 'not finite'), (np.ones(4), 0.0, r'\(5,\)'),
+                                 (np.ones((1, 5)), 0.0, r'\(5,\)'), (['a'] * 5, 0.0, 'numbers'),
+                                 (_features(0.17), float('inf'), 'position')]:
+        with pytest.raises(InputError, match=match):
+            tracker.update(1, features, x_m, 0.0)
+    assert tracker.height_m == height
+
+
+def test_tracker_restores_height_after_a_restart():
+    params = ElevationParams(step_height_m=0.15, start_height_m=0.3)
+    tracker = ElevationTracker(ScriptedModel([1.0, -1.0]), params)
+    assert tracker.height_m == 0.3
+    resumed = ElevationTracker(ScriptedModel([1.0]), params, height_m=4.2)
+    assert resumed.update(0, _features(0.16), 0.0, 0.0).height_m == pytest.approx(4.35, abs=1e-12)
+    assert resumed.floor == 1
+    resumed.reset(-3.0)
+    assert resumed.height_m == -3.0 and resumed.floor == -1
+    resumed.reset()
+    assert resumed.height_m == 0.3
+    with pytest.raises(ValueError, match='height_m'):
+        resumed.reset(float('nan'))
+    with pytest.raises(ValueError, match='5 inputs'):
+        ElevationTracker(Anfis(4), params)
