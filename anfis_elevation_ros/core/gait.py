@@ -168,10 +168,10 @@ class MountingEstimator:
         """Forward axis to use for this cycle's pitch (learning from it in automatic mode)."""
         if self.fixed:
             return self.forward_b
-        long_enough = math.hypot(stride_n[0], stride_n[1]) >= self._params.min_stride_m
-        direction_b = horizontal_direction_b(stride_n, C_nb_stance) if long_enough else None
-        if direction_b is None:
-            return self.forward_b
+        direction_b = horizontal_direction_b(stride_n, C_nb_stance)
+        if math.hypot(stride_n[0], stride_n[1]) < self._params.min_stride_m:
+            # Too short to learn from; until an axis is learnt it is still the best guess.
+            return direction_b if self.forward_b is None else self.forward_b
         self._sum_b += direction_b
         self._count += 1
         if self._count >= self._params.mounting_strides:

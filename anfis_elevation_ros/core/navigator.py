@@ -21,7 +21,8 @@ closes one, the gait cycle with its features.
 Start-up: the navigator estimates the sample rate from the first stamps (unless given), then
 waits for the first stance of at least ``init_stance_s`` (a firefighter may start walking at
 once), takes roll and pitch from gravity, the gyro bias from the mean rate when the foot was
-truly still, and starts navigating at the origin with heading 0.
+truly still, and the accelerometer bias along gravity from the magnitude it reads (which
+must be g at rest), and starts navigating at the origin with heading 0.
 """
 
 from collections import deque
@@ -37,7 +38,7 @@ from .frames import GRAVITY_MPS2, dcm_to_quat, level_attitude_from_gravity, quat
 from .frames import rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
 from .strapdown import strapdown_step
-from .units import check_gyro_rate, check_rest_gravity
+from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .zupt import adaptive_threshold, GaitIntensity, ShoeDetector, ZuptParams
 
 RATE_ESTIMATE_SAMPLES = 16
@@ -56,8 +57,9 @@ class NavigatorParams:
     still_gyr_rps : the start-up stance gives the initial gyro bias when no rate in it
         exceeds this (the foot was still, not rolling through a step).
     max_gap_s : a larger interval between samples is a gap (the cycle it falls in is invalid).
-    mounting_rpy_deg : foot frame to IMU frame rotation (roll, pitch, yaw, deg) or None for
-        automatic mode (forward axis from the first strides).
+    mounting_rpy_deg : roll, pitch, yaw (deg) of the mounting C_fb, v_f = C_fb v_b (foot frame
+        x forward, y left, z up), or None for automatic mode (forward axis from the first
+        strides).
 
     """
 
@@ -144,6 +146,8 @@ class FootNavigator:
         self._detector = ShoeDetector(p.zupt, rate_hz, p.gravity_mps2)
         self._intensity = GaitIntensity(p.zupt, rate_hz)
         self._threshold = self._current_threshold()
+        self._min_stance = p.zupt.min_stance_samples(rate_hz)
+        self._still_samples = 0
         self._rest = deque(maxlen=max(self._detector.window, RATE_ESTIMATE_SAMPLES,
                                        int(round(p.init_stance_s * rate_hz))))
 
@@ -151,18 +155,20 @@ class FootNavigator:
         p = self.params
         rest = np.array([(a, g) for _, a, g in self._rest])
         check_rest_gravity(rest[:, 0])
-        C_nb = level_attitude_from_gravity(rest[:, 0].mean(axis=0))
+        acc_mean = rest[:, 0].mean(axis=0)
+        rest_g = float(np.linalg.norm(acc_mean))
+        C_nb = level_attitude_from_gravity(acc_mean)
         still = np.max(np.abs(rest[:, 1])) <= p.still_gyr_rps
         self._q = dcm_to_quat(C_nb)
         self._vel = np.zeros(3)
         self._pos = np.zeros(3)
-        self._acc_bias = np.zeros(3)
+        self._acc_bias = (rest_g - p.gravity_mps2) * acc_mean / rest_g
+        self._detector.gravity_mps2 = rest_g
         self._gyr_bias = rest[:, 1].mean(axis=0) if still else np.zeros(3)
         self._P = ekf.initial_covariance(p.ekf)
         self._phi = np.eye(ekf.N_STATES)
         self._Q_per_s = ekf.process_noise(p.ekf, 1.0)
-        C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(
-            *np.radians(p.mounting_rpy_deg)).T
+        C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
         self._gait = GaitSegmenter(p.gait, self.status.rate_hz, MountingEstimator(p.gait, C_fb))
         self._gait.update(self._rest[-1][0], True, self._pos, C_nb)
         self.status.initialised = True
@@ -180,6 +186,11 @@ class FootNavigator:
             if not 20.0 <= rate_hz <= 2000.0:
                 self._pending.clear()
                 raise InputError(f'IMU rate {rate_hz:.1f} Hz is outside [20, 2000] Hz')
+            try:
+                check_acc_scale(np.array([a for _, a, _ in self._pending]))
+            except InputError:
+                self._pending.clear()
+                raise
             self._start_detector(rate_hz)
             pending = list(self._pending)
             self._pending.clear()
@@ -187,7 +198,7 @@ class FootNavigator:
             pending = [(stamp_ns, acc_b, gyr_b)]
         for sample in pending:
             statistic = self._detector.update(sample[1], sample[2])
-            self._update_threshold(sample[1])
+            self._update_threshold(sample[2])
             if statistic is None or statistic >= self._threshold:
                 self._rest.clear()
                 continue
@@ -247,8 +258,10 @@ class FootNavigator:
         self._P = ekf.predict_covariance(self._P, phi, self._Q_per_s * dt_s)
 
         # S2, eq. (4): zero-velocity decision; S3, eq. (7): ZUPT in every stance sample.
-        stance = self._detector.update(acc_b, gyr_b) < self._threshold
-        self._update_threshold(acc_b)
+        still = self._detector.update(acc_b, gyr_b) < self._threshold
+        self._still_samples = self._still_samples + 1 if still else 0
+        stance = self._still_samples >= self._min_stance
+        self._update_threshold(gyr_b)
         if stance:
             self.status.stance_samples += 1
             dx, self._P, self.status.last_nis = ekf.zupt_correction(
@@ -264,8 +277,8 @@ class FootNavigator:
             self.status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
         return self._track_point(stamp_ns, stance), cycle
 
-    def _update_threshold(self, acc_b):
-        if self.params.zupt.adaptive and self._intensity.update(math.sqrt(acc_b @ acc_b)):
+    def _update_threshold(self, gyr_b):
+        if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b @ gyr_b)):
             self._threshold = self._current_threshold()
 
     def _current_threshold(self):

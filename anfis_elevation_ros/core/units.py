@@ -45,6 +45,28 @@ def check_rest_gravity(acc_b_rest: np.ndarray) -> None:
                      'check its units and scale')
 
 
+def check_acc_scale(acc_b: np.ndarray) -> None:
+    """
+    Refuse specific force whose typical magnitude is not about 9.81 m/s^2.
+
+    The median of |f| over a few samples is close to g whether the foot stands or walks
+    (it swings about gravity), so this works before any rest is found.
+
+    Parameters
+    ----------
+    acc_b : (N, 3) array
+        Specific force, m/s^2.
+
+    """
+    median = float(np.median(np.linalg.norm(acc_b, axis=1)))
+    if GRAVITY_RANGE_G[0] <= median <= GRAVITY_RANGE_G[1]:
+        raise InputError(f'accelerometer reads a median of {median:.3f}: it looks like g, not '
+                         'm/s^2; convert (x 9.80665) or use import-csv --acc-unit g')
+    if not 0.5 * GRAVITY_RANGE_MPS2[0] <= median <= 2.0 * GRAVITY_RANGE_MPS2[1]:
+        raise InputError(f'accelerometer reads a median of {median:.3f} m/s^2 instead of about '
+                         '9.81: check its units and scale')
+
+
 def check_gyro_rate(gyr_b: np.ndarray) -> None:
     """Refuse angular rates no MEMS gyro measures in rad/s (the data are in deg/s).
 

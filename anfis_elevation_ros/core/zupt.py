@@ -55,10 +55,13 @@ class ZuptParams:
     sigma_acc_mps2 : accelerometer noise scale sigma_a of eq. (4), m/s^2.
     sigma_gyr_rps : gyroscope noise scale sigma_w of eq. (4), rad/s.
     adaptive : scale gamma with the gait's intensity (see ``adaptive_threshold``).
-    ref_peak_acc_mps2 : intensity m_0 at which gamma = gamma_0.
+    ref_peak_gyr_rps : intensity m_0 at which gamma = gamma_0, rad/s.
     intensity_exponent : p in gamma = gamma_0 (m / m_0)^p.
     min_threshold, max_threshold : bounds of the adaptive gamma.
-    intensity_block_s : block over which the peak specific force is taken, s.
+    min_stance_s : a stance counts only after T_k < gamma held this long (a foot that moves at
+        constant velocity without turning looks still to an IMU for an instant; a real
+        stance lasts 0.1 s or more).
+    intensity_block_s : block over which the peak angular rate is taken, s.
     intensity_blocks : blocks whose median peak is the intensity m.
 
     Notes
@@ -71,32 +74,38 @@ class ZuptParams:
     """
 
     window_s: float = 0.025
-    threshold: float = 1.0e7
+    threshold: float = 1.2e7
     sigma_acc_mps2: float = 1.0e-3
     sigma_gyr_rps: float = math.radians(0.005)
     adaptive: bool = True
-    ref_peak_acc_mps2: float = 30.0
-    intensity_exponent: float = 4.0
+    ref_peak_gyr_rps: float = 6.0
+    intensity_exponent: float = 4.4
     min_threshold: float = 1.0e5
-    max_threshold: float = 1.0e9
-    intensity_block_s: float = 1.0
-    intensity_blocks: int = 5
+    max_threshold: float = 2.0e8
+    min_stance_s: float = 0.02
+    intensity_block_s: float = 0.5
+    intensity_blocks: int = 3
 
     def __post_init__(self):
         _check_range('window_s', self.window_s, 0.005, 0.5)
         _check_range('threshold', self.threshold, 1.0, 1e12)
         _check_range('sigma_acc_mps2', self.sigma_acc_mps2, 1e-5, 10.0)
         _check_range('sigma_gyr_rps', self.sigma_gyr_rps, 1e-6, 1.0)
-        _check_range('ref_peak_acc_mps2', self.ref_peak_acc_mps2, 10.0, 200.0)
+        _check_range('ref_peak_gyr_rps', self.ref_peak_gyr_rps, 0.5, 30.0)
         _check_range('intensity_exponent', self.intensity_exponent, 0.0, 10.0)
         _check_range('min_threshold', self.min_threshold, 1.0, self.max_threshold)
         _check_range('max_threshold', self.max_threshold, self.min_threshold, 1e13)
+        _check_range('min_stance_s', self.min_stance_s, 0.0, 0.5)
         _check_range('intensity_block_s', self.intensity_block_s, 0.2, 10.0)
         _check_range('intensity_blocks', self.intensity_blocks, 1, 60)
 
     def window_samples(self, rate_hz: float) -> int:
         """Window length W in samples at a sample rate."""
         return max(3, int(round(self.window_s * rate_hz)))
+
+    def min_stance_samples(self, rate_hz: float) -> int:
+        """Consecutive still samples before a stance counts, at a sample rate (at least 1)."""
+        return max(1, int(round(self.min_stance_s * rate_hz)))
 
 
 def _check_range(name, value, low, high):
@@ -152,21 +161,25 @@ def shoe_statistic_trailing(acc_b: np.ndarray, gyr_b: np.ndarray, window: int,
     return stat
 
 
-def adaptive_threshold(peak_acc_mps2: float, params: ZuptParams) -> float:
+def adaptive_threshold(peak_gyr_rps: float, params: ZuptParams) -> float:
     """Threshold for the gait's intensity: gamma = clip(gamma_0 (m / m_0)^p, gamma_min, gamma_max).
 
-    m is the median peak specific-force magnitude of the last one-second blocks. A faster gait never
+    m is the median of the peak angular-rate magnitudes of the last blocks. A faster gait never
     stops the foot as completely, so its stance statistic stays higher: on the 36 pyshoe
-    VICON trials the per-trial optimal gamma grows with the 95th percentile of |a| as
-    |a|^4 (log-log correlation 0.87), from walking (about 1e5 here) to running (1e7).
+    VICON trials the per-trial optimal gamma grows with m as m^4.4 (log-log correlation
+    0.86), from slow walking (m = 3 rad/s, gamma about 1e6) to running (m = 11 rad/s, 1e8).
+    Peak specific force predicts as well there, but heel-strike spikes depend on the sensor
+    and its mounting (a NilsPod on the instep saturates at 16 g): the rate is steadier.
+    gamma_max = 2e8 keeps a gyro that reads spikes past 20 rad/s (x-io, 256 Hz) from
+    declaring whole swings stance.
     """
-    gamma = params.threshold * (peak_acc_mps2 / params.ref_peak_acc_mps2) ** \
+    gamma = params.threshold * (peak_gyr_rps / params.ref_peak_gyr_rps) ** \
         params.intensity_exponent
     return min(max(gamma, params.min_threshold), params.max_threshold)
 
 
 class GaitIntensity:
-    """Median peak |specific force| of the last one-second blocks, the m of adaptive_threshold.
+    """Median peak |angular rate| of the last blocks, the m of adaptive_threshold.
 
     Blocks of fixed duration, not swings, so the measure does not depend on the detector it
     steers (a run that starts fast would otherwise never leave the start threshold).
@@ -177,12 +190,12 @@ class GaitIntensity:
         self._block_samples = max(1, int(round(params.intensity_block_s * rate_hz)))
         self._count = 0
         self._block_peak = 0.0
-        self.value = params.ref_peak_acc_mps2
+        self.value = params.ref_peak_gyr_rps
 
-    def update(self, acc_norm_mps2: float) -> bool:
-        """Add a sample's |a|; return True when the intensity m changed."""
-        if acc_norm_mps2 > self._block_peak:
-            self._block_peak = acc_norm_mps2
+    def update(self, gyr_norm_rps: float) -> bool:
+        """Add a sample's |w|; return True when the intensity m changed."""
+        if gyr_norm_rps > self._block_peak:
+            self._block_peak = gyr_norm_rps
         self._count += 1
         if self._count < self._block_samples:
             return False
@@ -198,7 +211,9 @@ class ShoeDetector:
 
     ``update(acc_b, gyr_b)`` returns T_k of the window ending at the new sample, or None while
     the first window fills. The sums are rebuilt from the ring buffer each time it wraps, so
-    rounding errors cannot accumulate over a long shift.
+    rounding errors cannot accumulate over a long shift. ``gravity_mps2`` is the g of eq. (4);
+    the navigator sets it to the magnitude the sensor reads at rest, so that an accelerometer
+    scale or bias error along gravity does not lift the statistic of every stance.
     """
 
     def __init__(self, params: ZuptParams, rate_hz: float, gravity_mps2: float = GRAVITY_MPS2):
@@ -206,7 +221,7 @@ class ShoeDetector:
         self.window = params.window_samples(rate_hz)
         self._inv_var_acc = 1.0 / params.sigma_acc_mps2 ** 2
         self._inv_var_gyr = 1.0 / params.sigma_gyr_rps ** 2
-        self._g = gravity_mps2
+        self.gravity_mps2 = gravity_mps2
         self._acc = np.zeros((self.window, 3))
         self._gyr = np.zeros((self.window, 3))
         self._count = 0
@@ -240,5 +255,6 @@ class ShoeDetector:
         w = self.window
         sx, sy, sz = self._sum_acc
         norm_mean_acc = math.sqrt(sx * sx + sy * sy + sz * sz) / w
-        acc_term = self._sum_acc_sq - 2.0 * self._g * w * norm_mean_acc + w * self._g ** 2
+        g = self.gravity_mps2
+        acc_term = self._sum_acc_sq - 2.0 * g * w * norm_mean_acc + w * g * g
         return (acc_term * self._inv_var_acc + self._sum_gyr_sq * self._inv_var_gyr) / w

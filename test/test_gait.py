@@ -1,0 +1,111 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Gait-cycle segmentation and the five features, eq. (8)-(12)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.frames import rpy_to_dcm
+from anfis_elevation_ros.core.gait import (
+    foot_inclination, GaitParams, GaitSegmenter, height_features, max_relative_pitch,
+    MountingEstimator)
+
+RATE_HZ = 100.0
+
+
+def test_height_features_hand_computed():
+    h = np.array([0.1, 0.3, 0.2])
+    mean = 0.2
+    std = math.sqrt(((0.1 - mean) ** 2 + (0.3 - mean) ** 2 + 0.0) / 3)
+    assert np.allclose(height_features(h), [mean, std, 0.2, 0.3])
+    assert height_features(np.array([-0.05, -0.4, -0.17]))[3] == pytest.approx(0.4)
+
+
+def test_inclination_is_toe_up_positive():
+    # REP 103: a positive pitch about y (left) lowers the nose, so toe-up is pitch -theta.
+    for theta in (-0.6, 0.0, 0.3):
+        up_b = rpy_to_dcm(0.0, -theta, 0.7)[2, :]
+        assert foot_inclination(up_b, np.array([1.0, 0.0, 0.0])) == pytest.approx(theta)
+
+
+def test_pitch_is_relative_to_stance_so_a_tilted_mount_does_not_bias_it():
+    forward_b = np.array([1.0, 0.0, 0.0])
+    stance_up_b = rpy_to_dcm(0.0, -0.2, 0.0)[2, :]  # mounted 0.2 rad toe-up at rest
+    swing_up_b = np.array([rpy_to_dcm(0.0, -0.2 - a, 0.0)[2, :] for a in (0.1, 0.35, -0.5)])
+    assert max_relative_pitch(swing_up_b, stance_up_b, forward_b) == pytest.approx(0.35)
+
+
+def run_segmenter(heights, stance, params=GaitParams(), gaps=None):
+    segmenter = GaitSegmenter(params, RATE_HZ, MountingEstimator(params, np.eye(3)))
+    cycles = []
+    for k, (h, still) in enumerate(zip(heights, stance)):
+        cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
+                                 gap=bool(gaps is not None and gaps[k]))
+        if cycle is not None:
+            cycles.append(cycle)
+    return cycles
+
+
+def step_up(swing_samples, rise_m):
+    swing = rise_m * np.sin(np.linspace(0, np.pi / 2, swing_samples))
+    heights = np.concatenate([np.zeros(20), swing, np.full(20, rise_m)])
+    stance = np.concatenate([np.ones(20), np.zeros(swing_samples), np.ones(20)]).astype(bool)
+    return heights, stance
+
+
+def test_a_stride_makes_one_cycle_closed_by_its_first_stance_sample():
+    heights, stance = step_up(50, 0.17)
+    cycles = run_segmenter(heights, stance)
+    assert len(cycles) == 1
+    cycle = cycles[0]
+    assert cycle.stamp_ns == 70 * 10_000_000 and cycle.start_stamp_ns == 19 * 10_000_000
+    assert cycle.valid and cycle.height_change_m == pytest.approx(0.17)
+    assert cycle.features[3] == pytest.approx(0.17)
+    assert np.allclose(cycle.pos_n, [0.7, 0.0, 0.17])
+
+
+def test_short_swings_are_no_cycle_and_long_ones_are_invalid():
+    assert run_segmenter(*step_up(10, 0.0)) == []  # 0.1 s < min_swing_s
+    long_cycles = run_segmenter(*step_up(300, 0.17))  # 3 s > max_swing_s
+    assert len(long_cycles) == 1 and not long_cycles[0].valid
+
+
+def test_a_gap_in_the_swing_invalidates_the_cycle():
+    heights, stance = step_up(50, 0.17)
+    gaps = np.zeros(len(heights), bool)
+    gaps[40] = True
+    assert not run_segmenter(heights, stance, gaps=gaps)[0].valid
+
+
+def test_automatic_mounting_learns_the_forward_axis_from_strides():
+    params = GaitParams(mounting_strides=3)
+    estimator = MountingEstimator(params)
+    C_nb = rpy_to_dcm(0.3, 0.1, 1.0)  # body axes rotated from the navigation frame
+    forward_b = C_nb.T @ np.array([math.cos(0.4), math.sin(0.4), 0.0])
+    for _ in range(3):
+        used = estimator.forward_for_cycle(np.array([math.cos(0.4), math.sin(0.4), 0.2]), C_nb)
+    assert estimator.fixed and np.allclose(used, forward_b)
+    # Once learnt, a turn on the spot (no stride) keeps the axis.
+    assert np.allclose(estimator.forward_for_cycle(np.zeros(3), C_nb), forward_b)
+
+
+@pytest.mark.parametrize('kwargs', [dict(min_swing_s=3.0), dict(max_swing_s=20.0),
+                                    dict(min_stride_m=0.0), dict(mounting_strides=0)])
+def test_bad_gait_parameters_raise(kwargs):
+    with pytest.raises(InputError):
+        GaitParams(**kwargs)
