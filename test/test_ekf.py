@@ -14,13 +14,12 @@
 
 """The error-state EKF, eq. (5)-(7): transition matrix, ZUPT update, covariance properties."""
 
-import numpy as np
-import pytest
-
 from anfis_elevation_ros.core import ekf
 from anfis_elevation_ros.core.frames import (
     dcm_to_quat, quat_multiply, quat_to_dcm, quat_to_rotvec, rotvec_to_quat, skew)
 from anfis_elevation_ros.core.strapdown import strapdown_step
+import numpy as np
+import pytest
 
 G = 9.80665
 

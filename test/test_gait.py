@@ -16,14 +16,13 @@
 
 import math
 
-import numpy as np
-import pytest
-
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.frames import rpy_to_dcm
 from anfis_elevation_ros.core.gait import (
     foot_inclination, GaitParams, GaitSegmenter, height_features, max_relative_pitch,
     MountingEstimator)
+import numpy as np
+import pytest
 
 RATE_HZ = 100.0
 
@@ -104,8 +103,8 @@ def test_automatic_mounting_learns_the_forward_axis_from_strides():
     assert np.allclose(estimator.forward_for_cycle(np.zeros(3), C_nb), forward_b)
 
 
-@pytest.mark.parametrize('kwargs', [dict(min_swing_s=3.0), dict(max_swing_s=20.0),
-                                    dict(min_stride_m=0.0), dict(mounting_strides=0)])
+@pytest.mark.parametrize('kwargs', [{'min_swing_s': 3.0}, {'max_swing_s': 20.0},
+                                    {'min_stride_m': 0.0}, {'mounting_strides': 0}])
 def test_bad_gait_parameters_raise(kwargs):
     with pytest.raises(InputError):
         GaitParams(**kwargs)

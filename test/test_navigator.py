@@ -14,12 +14,11 @@
 
 """The navigator end to end: live equals batch, any mounting, units, simulated stairs."""
 
-import numpy as np
-import pytest
-
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.sim import sample_walk, Segment, simulate_walk
+import numpy as np
+import pytest
 
 
 def walk(mounting_rpy_deg=(0.0, 0.0, 0.0), imu='consumer', rate_hz=200.0, seed=11):

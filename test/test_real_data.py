@@ -20,13 +20,12 @@ small margin, so that a regression fails. They are not the project's targets whe
 not met yet (pyshoe median <= 0.08 m and mean <= 0.10 m; MaD feet within 5 %).
 """
 
-import numpy as np
-import pytest
-
 from anfis_elevation_ros.core.navigator import FootNavigator
 from anfis_elevation_ros.tools.datasets import (
     dataset_files, load_mad_stairs, load_pyshoe_vicon, load_xio)
 from anfis_elevation_ros.tools.metrics import pyshoe_position_error
+import numpy as np
+import pytest
 
 
 def final_height_m(recording):

@@ -16,14 +16,13 @@
 
 import math
 
-import numpy as np
-import pytest
-
 from anfis_elevation_ros.core.frames import (
     dcm_to_quat, dcm_to_rpy, level_attitude_from_gravity, quat_multiply, quat_to_dcm,
     quat_to_rotvec, rotvec_to_quat, rpy_to_dcm, skew)
 from anfis_elevation_ros.core.strapdown import (
     strapdown, update_attitude, update_position, update_velocity)
+import numpy as np
+import pytest
 
 G = 9.80665
 

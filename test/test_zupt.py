@@ -16,13 +16,12 @@
 
 import math
 
-import numpy as np
-import pytest
-
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.zupt import (
     adaptive_threshold, GaitIntensity, shoe_statistic, shoe_statistic_trailing, ShoeDetector,
     ZuptParams)
+import numpy as np
+import pytest
 
 G = 9.80665
 

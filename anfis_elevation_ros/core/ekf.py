@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""15-state error-state EKF with zero-velocity updates, patent CN111649742A step S3, eq. (5)-(7).
+"""
+15-state error-state EKF with zero-velocity updates, patent CN111649742A step S3, eq. (5)-(7).
 
 Error state, in the patent's order (each a 3-vector, navigation frame ENU unless noted):
     dx = [dP, dV, accelerometer bias (body), dphi (attitude), gyro bias (body)]
@@ -36,6 +37,7 @@ References
     open-source embedded implementation", IEEE/ION PLANS 2012 (OpenShoe).
 [3] P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated Navigation Systems,
     2nd ed., 2013, sec. 14.2 (error-state dynamics) and 3.2 (Joseph form).
+
 """
 
 from dataclasses import dataclass
@@ -57,7 +59,8 @@ H_ZUPT[:, VEL] = np.eye(3)
 
 @dataclass(frozen=True)
 class EkfParams:
-    """Noise model of the error-state EKF.
+    """
+    Noise model of the error-state EKF.
 
     Attributes
     ----------
@@ -107,16 +110,21 @@ _PHI_VARYING = np.concatenate([
 
 def error_transition_matrix(C_nb: np.ndarray, acc_n: np.ndarray, dt_s: float,
                             out: np.ndarray = None) -> np.ndarray:
-    """Discrete error-state transition matrix, eq. (5): Phi = I + F dt.
+    """
+    Discrete error-state transition matrix, eq. (5): Phi = I + F dt.
 
     F[dP, dV] = I,  F[dV, dphi] = -[f_n x],  F[dV, dba] = -C_nb,  F[dphi, dbg] = -C_nb.
 
     Parameters
     ----------
-    C_nb : (3, 3) attitude at the middle of the interval.
-    acc_n : (3,) specific force in the navigation frame f_n = C_nb f_b, m/s^2.
-    dt_s : interval, s.
-    out : optional (15, 15) array to fill; only the blocks above are written, so pass an
+    C_nb : (3, 3) array
+        Attitude at the middle of the interval.
+    acc_n : (3,) array
+        Specific force in the navigation frame f_n = C_nb f_b, m/s^2.
+    dt_s : float
+        Interval, s.
+    out : float
+        Optional (15, 15) array to fill; only the blocks above are written, so pass an
         array that already holds the identity elsewhere.
 
     """
@@ -130,7 +138,8 @@ def error_transition_matrix(C_nb: np.ndarray, acc_n: np.ndarray, dt_s: float,
 
 
 def process_noise(params: EkfParams, dt_s: float) -> np.ndarray:
-    """Discrete process noise, eq. (6) term Q: diagonal, density^2 * dt per block.
+    """
+    Discrete process noise, eq. (6) term Q: diagonal, density^2 * dt per block.
 
     White noise in body axes rotated to the navigation frame stays isotropic,
     C q I C^T = q I, so Q does not depend on attitude, and Q(dt) = Q(1 s) dt.
@@ -150,7 +159,8 @@ def predict_covariance(P: np.ndarray, phi: np.ndarray, Q: np.ndarray) -> np.ndar
 
 
 def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
-    """Zero-velocity update, eq. (7).
+    """
+    Zero-velocity update, eq. (7).
 
     z = 0 - v_n (innovation, since the true velocity is zero), H = [0 I 0 0 0],
     K = P H^T (H P H^T + R)^-1, dx = K z, P+ = (I - K H) P (I - K H)^T + K R K^T (Joseph form,
@@ -158,9 +168,12 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
 
     Parameters
     ----------
-    P : (15, 15) predicted covariance.
-    vel_n : (3,) estimated velocity, m/s.
-    zupt_sigma_mps : measurement noise standard deviation, R = sigma^2 I.
+    P : (15, 15) array
+        Predicted covariance.
+    vel_n : (3,) array
+        Estimated velocity, m/s.
+    zupt_sigma_mps : float
+        Measurement noise standard deviation, R = sigma^2 I.
 
     Returns
     -------
@@ -181,7 +194,8 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
 
 
 def apply_correction(q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx):
-    """Feed the estimated error back into the nominal state (closed-loop EKF reset).
+    """
+    Feed the estimated error back into the nominal state (closed-loop EKF reset).
 
     p += dP, v += dV, ba += dba, bg += dbg, q_nb <- exp(dphi) * q_nb (navigation-side error).
     """
@@ -191,7 +205,7 @@ def apply_correction(q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx):
 
 
 def initial_covariance(params: EkfParams) -> np.ndarray:
-    """Initial covariance: position and velocity known (start at rest at the origin)."""
+    """Return the initial covariance: position and velocity known (start at rest at 0)."""
     diag = np.zeros(N_STATES)
     diag[POS] = 1e-8
     diag[VEL] = 1e-6

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Rotations in the project's conventions: quaternions [w, x, y, z], ENU navigation frame.
+"""
+Rotations in the project's conventions: quaternions [w, x, y, z], ENU navigation frame.
 
 ``q_nb`` rotates body vectors into the navigation frame, ``v_n = C_nb @ v_b`` with
 ``C_nb = quat_to_dcm(q_nb)``. Small-angle errors ``phi_n`` act on the navigation side:
@@ -22,6 +23,7 @@ References
 ----------
 [1] P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated Navigation Systems,
     2nd ed., Artech House, 2013, ch. 2 and 5.
+
 """
 
 import math
@@ -32,7 +34,7 @@ GRAVITY_MPS2 = 9.80665  # standard gravity; the local value can be set by parame
 
 
 def skew(v: np.ndarray) -> np.ndarray:
-    """Cross-product matrix [v x], so that skew(v) @ u == np.cross(v, u)."""
+    """Return the cross-product matrix [v x] of v (its product with u is v x u)."""
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
@@ -49,7 +51,7 @@ def quat_multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 def rotvec_to_quat(rotvec: np.ndarray) -> np.ndarray:
-    """Quaternion of a rotation by angle |r| about axis r/|r|: q = [cos(|r|/2), sin(|r|/2) r/|r|]."""
+    """Return the quaternion of rotation vector r: q = [cos(|r|/2), sin(|r|/2) r/|r|]."""
     x, y, z = rotvec.tolist()
     angle = math.sqrt(x * x + y * y + z * z)
     if angle < 1e-12:
@@ -79,7 +81,7 @@ def quat_to_dcm(q: np.ndarray) -> np.ndarray:
 
 
 def dcm_to_quat(C: np.ndarray) -> np.ndarray:
-    """Unit quaternion [w, x, y, z] (w >= 0) of a rotation matrix (Shepperd's method)."""
+    """Return the unit quaternion [w, x, y, z] (w >= 0) of a rotation matrix (Shepperd)."""
     trace = C[0, 0] + C[1, 1] + C[2, 2]
     candidates = (trace, C[0, 0], C[1, 1], C[2, 2])
     i = int(np.argmax(candidates))
@@ -100,7 +102,7 @@ def dcm_to_quat(C: np.ndarray) -> np.ndarray:
 
 
 def rpy_to_dcm(roll: float, pitch: float, yaw: float) -> np.ndarray:
-    """Rotation matrix of fixed-axis roll, pitch, yaw (rad), REP 103: C = Rz(yaw) Ry(pitch) Rx(roll)."""
+    """Return C = Rz(yaw) Ry(pitch) Rx(roll) of fixed-axis roll, pitch, yaw (rad), REP 103."""
     cr, sr = math.cos(roll), math.sin(roll)
     cp, sp = math.cos(pitch), math.sin(pitch)
     cy, sy = math.cos(yaw), math.sin(yaw)
@@ -112,7 +114,7 @@ def rpy_to_dcm(roll: float, pitch: float, yaw: float) -> np.ndarray:
 
 
 def dcm_to_rpy(C: np.ndarray) -> np.ndarray:
-    """Roll, pitch, yaw (rad) of a rotation matrix, inverse of rpy_to_dcm (pitch in [-pi/2, pi/2])."""
+    """Return roll, pitch, yaw (rad) of a rotation matrix, pitch in [-pi/2, pi/2]."""
     return np.array([
         math.atan2(C[2, 1], C[2, 2]),
         math.asin(max(-1.0, min(1.0, -C[2, 0]))),
@@ -121,7 +123,8 @@ def dcm_to_rpy(C: np.ndarray) -> np.ndarray:
 
 
 def level_attitude_from_gravity(acc_b: np.ndarray) -> np.ndarray:
-    """Initial attitude C_nb from the mean specific force at rest, with yaw 0.
+    """
+    Return the attitude C_nb given by the mean specific force at rest, with yaw 0.
 
     At rest f_b = C_bn [0, 0, g], so the navigation z axis seen in the body frame is
     u_b = f_b / |f_b|. The returned C_nb is the smallest rotation taking u_b to [0, 0, 1]
@@ -129,7 +132,8 @@ def level_attitude_from_gravity(acc_b: np.ndarray) -> np.ndarray:
 
     Parameters
     ----------
-    acc_b : (3,) mean specific force at rest, m/s^2.
+    acc_b : (3,) array
+        Mean specific force at rest, m/s^2.
 
     """
     up_b = acc_b / np.linalg.norm(acc_b)

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Gait-cycle segmentation and features, patent CN111649742A step S4, eq. (8)-(12).
+"""
+Gait-cycle segmentation and features, patent CN111649742A step S4, eq. (8)-(12).
 
 A gait cycle runs from the last stance sample before a swing to the first stance sample
 after it (the sample that closes the cycle). With h_j the EKF-corrected foot height of swing
@@ -45,7 +46,8 @@ FEATURE_NAMES = ('mean_height_m', 'std_height_m', 'height_change_m', 'max_abs_he
 
 @dataclass(frozen=True)
 class GaitParams:
-    """Gait-cycle segmentation parameters.
+    """
+    Gait-cycle segmentation parameters.
 
     Attributes
     ----------
@@ -74,7 +76,8 @@ class GaitParams:
 
 @dataclass(frozen=True)
 class GaitCycle:
-    """One gait cycle, as the IMU node publishes it.
+    """
+    One gait cycle, as the IMU node publishes it.
 
     Attributes
     ----------
@@ -100,11 +103,13 @@ class GaitCycle:
 
 
 def height_features(height_m: np.ndarray) -> np.ndarray:
-    """Height features eq. (8)-(11) of one cycle.
+    """
+    Height features eq. (8)-(11) of one cycle.
 
     Parameters
     ----------
-    height_m : (n,) foot height of each swing sample and of the closing stance sample,
+    height_m : (n,) array
+        Foot height of each swing sample and of the closing stance sample,
         relative to the stance height h_0, m.
 
     Returns
@@ -116,15 +121,18 @@ def height_features(height_m: np.ndarray) -> np.ndarray:
 
 
 def foot_inclination(up_b: np.ndarray, forward_b: np.ndarray) -> np.ndarray:
-    """Inclination of the foot's forward axis above the horizontal, rad (toe up positive).
+    """
+    Inclination of the foot's forward axis above the horizontal, rad (toe up positive).
 
     theta = asin(f_b . u_b), with u_b the navigation up axis seen in the body frame
     (the third row of C_nb) and f_b the unit forward axis of the foot in the body frame.
 
     Parameters
     ----------
-    up_b : (..., 3) up axis in the body frame at each sample.
-    forward_b : (3,) foot forward axis in the body frame.
+    up_b : (..., 3) array
+        Up axis in the body frame at each sample.
+    forward_b : (3,) array
+        Foot forward axis in the body frame.
 
     """
     return np.arcsin(np.clip(up_b @ forward_b, -1.0, 1.0))
@@ -138,7 +146,8 @@ def max_relative_pitch(up_b: np.ndarray, up_b_stance: np.ndarray,
 
 
 def horizontal_direction_b(displacement_n: np.ndarray, C_nb: np.ndarray):
-    """Unit horizontal direction of a displacement, in the body frame of an attitude, or None.
+    """
+    Return the unit horizontal direction of a displacement in the body frame, or None.
 
     The navigation-frame displacement with its vertical part removed is rotated into the body
     frame, d_b = C_nb^T d_h; None when it is shorter than 1 mm.
@@ -149,7 +158,8 @@ def horizontal_direction_b(displacement_n: np.ndarray, C_nb: np.ndarray):
 
 
 class MountingEstimator:
-    """Foot forward axis in the IMU frame: given, or learnt from the first strides.
+    """
+    Foot forward axis in the IMU frame: given, or learnt from the first strides.
 
     Automatic mode averages the horizontal direction of the first ``mounting_strides``
     strides longer than ``min_stride_m``, each seen in the body frame of the stance it left;
@@ -182,7 +192,8 @@ class MountingEstimator:
 
 
 class GaitSegmenter:
-    """Cuts the corrected track into gait cycles and computes their features, sample by sample.
+    """
+    Cuts the corrected track into gait cycles and computes their features, sample by sample.
 
     ``update`` takes each navigated sample and returns a ``GaitCycle`` on the sample that
     closes one, else None. Memory is bounded: a swing longer than ``max_swing_s`` stops
@@ -203,15 +214,21 @@ class GaitSegmenter:
 
     def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
                gap: bool = False):
-        """Add one navigated sample; return the GaitCycle it closes, or None.
+        """
+        Add one navigated sample; return the GaitCycle it closes, or None.
 
         Parameters
         ----------
-        stamp_ns : sample stamp.
-        stance : zero-velocity decision for the sample.
-        pos_n : (3,) corrected position, m.
-        C_nb : (3, 3) corrected attitude.
-        gap : True when samples are missing before this one.
+        stamp_ns : int
+            Sample stamp.
+        stance : bool
+            Zero-velocity decision for the sample.
+        pos_n : (3,) array
+            Corrected position, m.
+        C_nb : (3, 3) array
+            Corrected attitude.
+        gap : bool
+            True when samples are missing before this one.
 
         """
         if stance and not self._in_swing:

@@ -23,7 +23,8 @@ from .errors import InputError
 
 @dataclass(frozen=True)
 class ImuRecording:
-    """IMU samples in the sensor frame, SI units (REP 145).
+    """
+    IMU samples in the sensor frame, SI units (REP 145).
 
     Attributes
     ----------
@@ -43,7 +44,8 @@ class ImuRecording:
         n = len(self.stamp_ns)
         if self.acc_b.shape != (n, 3) or self.gyr_b.shape != (n, 3):
             raise InputError(
-                f'IMU arrays disagree: {n} stamps, acc {self.acc_b.shape}, gyr {self.gyr_b.shape}; '
+                f'IMU arrays disagree: {n} stamps, acc {self.acc_b.shape}, '
+                f'gyr {self.gyr_b.shape}; '
                 'expected (N,), (N, 3), (N, 3)')
 
     def __len__(self):

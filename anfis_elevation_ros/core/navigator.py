@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The foot navigator: mechanisation, SHOE detection, ZUPT-EKF and gait cycles, per sample.
+"""
+The foot navigator: mechanisation, SHOE detection, ZUPT-EKF and gait cycles, per sample.
 
 ``FootNavigator.step`` is the one pipeline behind the IMU node, offline replay and training:
 each call takes one IMU sample and returns the navigated sample and, on the sample that
@@ -34,7 +35,7 @@ import numpy as np
 from . import ekf
 from .ekf import EkfParams
 from .errors import InputError
-from .frames import GRAVITY_MPS2, dcm_to_quat, level_attitude_from_gravity, quat_to_dcm
+from .frames import dcm_to_quat, GRAVITY_MPS2, level_attitude_from_gravity, quat_to_dcm
 from .frames import rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
 from .strapdown import strapdown_step
@@ -46,7 +47,8 @@ RATE_ESTIMATE_SAMPLES = 16
 
 @dataclass(frozen=True)
 class NavigatorParams:
-    """Everything the navigator needs; each part is validated where it is defined.
+    """
+    Everything the navigator needs; each part is validated where it is defined.
 
     Attributes
     ----------
@@ -114,11 +116,13 @@ class NavigatorStatus:
 
 
 class FootNavigator:
-    """ZUPT-aided strapdown navigation of a foot IMU, one sample at a time.
+    """
+    ZUPT-aided strapdown navigation of a foot IMU, one sample at a time.
 
     Parameters
     ----------
-    params : NavigatorParams.
+    params : ZuptParams
+        NavigatorParams.
 
     Examples
     --------
@@ -148,8 +152,8 @@ class FootNavigator:
         self._threshold = self._current_threshold()
         self._min_stance = p.zupt.min_stance_samples(rate_hz)
         self._still_samples = 0
-        self._rest = deque(maxlen=max(self._detector.window, RATE_ESTIMATE_SAMPLES,
-                                       int(round(p.init_stance_s * rate_hz))))
+        init_samples = int(round(p.init_stance_s * rate_hz))
+        self._rest = deque(maxlen=max(self._detector.window, RATE_ESTIMATE_SAMPLES, init_samples))
 
     def _initialise(self):
         p = self.params
@@ -215,13 +219,17 @@ class FootNavigator:
     # -- navigation ----------------------------------------------------------------------------
 
     def step(self, stamp_ns: int, acc_b: np.ndarray, gyr_b: np.ndarray):
-        """Process one IMU sample.
+        """
+        Process one IMU sample.
 
         Parameters
         ----------
-        stamp_ns : sample stamp, ns, later than the previous sample's.
-        acc_b : (3,) specific force, m/s^2.
-        gyr_b : (3,) angular rate, rad/s.
+        stamp_ns : int
+            Sample stamp, ns, later than the previous sample's.
+        acc_b : (3,) array
+            Specific force, m/s^2.
+        gyr_b : (3,) array
+            Angular rate, rad/s.
 
         Returns
         -------

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Strapdown mechanisation of the foot IMU, patent CN111649742A step S1, eq. (1)-(3).
+"""
+Strapdown mechanisation of the foot IMU, patent CN111649742A step S1, eq. (1)-(3).
 
 Local-level ENU navigation frame, flat Earth, constant gravity, Earth rotation ignored (a foot
 MEMS gyro cannot sense 15 deg/h through its noise, and a walk lasts minutes between stances).
@@ -29,6 +30,7 @@ References
     Control and Dynamics 21(1), 1998.
 [2] I. Skog et al., "Zero-velocity detection - an algorithm evaluation", IEEE Trans. Biomed.
     Eng. 57(11), 2010 (the foot-mounted INS model used here).
+
 """
 
 import numpy as np
@@ -37,13 +39,17 @@ from .frames import GRAVITY_MPS2, quat_multiply, quat_to_dcm, rotvec_to_quat
 
 
 def update_attitude(q_nb: np.ndarray, gyr_b: np.ndarray, dt_s: float) -> np.ndarray:
-    """Attitude update, eq. (1): q_nb(k) = q_nb(k-1) * exp(omega_b dt / 2).
+    """
+    Attitude update, eq. (1): q_nb(k) = q_nb(k-1) * exp(omega_b dt / 2).
 
     Parameters
     ----------
-    q_nb : (4,) attitude at t_(k-1), body to navigation, [w, x, y, z].
-    gyr_b : (3,) mean angular rate over the interval, rad/s.
-    dt_s : interval, s.
+    q_nb : (4,) array
+        Attitude at t_(k-1), body to navigation, [w, x, y, z].
+    gyr_b : (3,) array
+        Mean angular rate over the interval, rad/s.
+    dt_s : float
+        Interval, s.
 
     """
     q = quat_multiply(q_nb, rotvec_to_quat(gyr_b * dt_s))
@@ -52,15 +58,21 @@ def update_attitude(q_nb: np.ndarray, gyr_b: np.ndarray, dt_s: float) -> np.ndar
 
 def update_velocity(vel_n: np.ndarray, C_nb_mid: np.ndarray, acc_b: np.ndarray, dt_s: float,
                     gravity_mps2: float = GRAVITY_MPS2) -> np.ndarray:
-    """Velocity update, eq. (2): v_n(k) = v_n(k-1) + (C_nb f_b + g_n) dt, g_n = [0, 0, -g].
+    """
+    Velocity update, eq. (2): v_n(k) = v_n(k-1) + (C_nb f_b + g_n) dt, g_n = [0, 0, -g].
 
     Parameters
     ----------
-    vel_n : (3,) velocity at t_(k-1), m/s, ENU.
-    C_nb_mid : (3, 3) attitude at the middle of the interval.
-    acc_b : (3,) mean specific force over the interval, m/s^2.
-    dt_s : interval, s.
-    gravity_mps2 : local gravity magnitude g, m/s^2.
+    vel_n : (3,) array
+        Velocity at t_(k-1), m/s, ENU.
+    C_nb_mid : (3, 3) array
+        Attitude at the middle of the interval.
+    acc_b : (3,) array
+        Mean specific force over the interval, m/s^2.
+    dt_s : float
+        Interval, s.
+    gravity_mps2 : float
+        Local gravity magnitude g, m/s^2.
 
     """
     acc_n = C_nb_mid @ acc_b
@@ -75,7 +87,8 @@ def update_position(pos_n: np.ndarray, vel_n_old: np.ndarray, vel_n_new: np.ndar
 
 
 def strapdown_step(q_nb, vel_n, pos_n, acc_b, gyr_b, dt_s, gravity_mps2=GRAVITY_MPS2):
-    """Integrate one interval with eq. (1)-(3); acc_b and gyr_b are interval means.
+    """
+    Integrate one interval with eq. (1)-(3); acc_b and gyr_b are interval means.
 
     Returns
     -------
@@ -91,13 +104,19 @@ def strapdown_step(q_nb, vel_n, pos_n, acc_b, gyr_b, dt_s, gravity_mps2=GRAVITY_
 
 
 def strapdown(q_nb0, vel_n0, pos_n0, stamp_ns, acc_b, gyr_b, gravity_mps2=GRAVITY_MPS2):
-    """Free-inertial navigation over a batch of samples (no aiding), a loop of strapdown_step.
+    """
+    Free-inertial navigation over a batch of samples (no aiding), a loop of strapdown_step.
 
     Parameters
     ----------
-    q_nb0, vel_n0, pos_n0 : state at the first sample.
-    stamp_ns : (N,) int sample stamps, ns.
-    acc_b, gyr_b : (N, 3) specific force (m/s^2) and angular rate (rad/s).
+    q_nb0, vel_n0, pos_n0 : (4,), (3,), (3,) arrays
+        State at the first sample.
+    stamp_ns : (N,) int array
+        Sample stamps, ns.
+    acc_b, gyr_b : (N, 3) array
+        Specific force (m/s^2) and angular rate (rad/s).
+    gravity_mps2 : float
+        Local gravity magnitude g, m/s^2.
 
     Returns
     -------

@@ -24,11 +24,13 @@ GRAVITY_RANGE_G = (0.7, 1.25)
 
 
 def check_rest_gravity(acc_b_rest: np.ndarray) -> None:
-    """Refuse a rest window whose mean specific force is not about 9.81 m/s^2.
+    """
+    Refuse a rest window whose mean specific force is not about 9.81 m/s^2.
 
     Parameters
     ----------
-    acc_b_rest : (N, 3) specific force over a window where the foot is still.
+    acc_b_rest : (N, 3) array
+        Specific force over a window where the foot is still.
 
     Raises
     ------
@@ -68,11 +70,13 @@ def check_acc_scale(acc_b: np.ndarray) -> None:
 
 
 def check_gyro_rate(gyr_b: np.ndarray) -> None:
-    """Refuse angular rates no MEMS gyro measures in rad/s (the data are in deg/s).
+    """
+    Refuse angular rates no MEMS gyro measures in rad/s (the data are in deg/s).
 
     Parameters
     ----------
-    gyr_b : (..., 3) angular rate, rad/s.
+    gyr_b : (..., 3) array
+        Angular rate, rad/s.
 
     """
     peak = float(np.max(np.abs(gyr_b))) if np.size(gyr_b) else 0.0

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Zero-velocity detection with the SHOE statistic, patent CN111649742A step S2, eq. (4).
+"""
+Zero-velocity detection with the SHOE statistic, patent CN111649742A step S2, eq. (4).
 
 The statistic of a window of W samples ending at sample k (a trailing window, so the live
 node decides on a sample as soon as it arrives) is
@@ -31,6 +32,7 @@ References
     evaluation", IEEE Trans. Biomed. Eng. 57(11), 2010 (the SHOE detector).
 [2] B. Wagstaff, V. Peretroukhin, J. Kelly, "Robust data-driven zero-velocity detection for
     foot-mounted inertial navigation", IEEE Sensors J. 20(2), 2020 (the pyshoe reference).
+
 """
 
 from collections import deque
@@ -45,7 +47,8 @@ from .frames import GRAVITY_MPS2
 
 @dataclass(frozen=True)
 class ZuptParams:
-    """Parameters of the SHOE zero-velocity detector.
+    """
+    Parameters of the SHOE zero-velocity detector.
 
     Attributes
     ----------
@@ -115,16 +118,21 @@ def _check_range(name, value, low, high):
 
 def shoe_statistic(acc_b: np.ndarray, gyr_b: np.ndarray, sigma_acc_mps2: float,
                    sigma_gyr_rps: float, gravity_mps2: float = GRAVITY_MPS2) -> np.ndarray:
-    """SHOE statistic of windows of samples, eq. (4).
+    """
+    SHOE statistic of windows of samples, eq. (4).
 
     T = 1/W sum_j [ ||a_j - g abar/||abar|| ||^2 / sigma_a^2 + ||w_j||^2 / sigma_w^2 ]
 
     Parameters
     ----------
-    acc_b : (..., W, 3) specific force of each window, m/s^2.
-    gyr_b : (..., W, 3) angular rate of each window, rad/s.
-    sigma_acc_mps2, sigma_gyr_rps : noise scales sigma_a, sigma_w.
-    gravity_mps2 : g.
+    acc_b : (..., W, 3) array
+        Specific force of each window, m/s^2.
+    gyr_b : (..., W, 3) array
+        Angular rate of each window, rad/s.
+    sigma_acc_mps2, sigma_gyr_rps : float
+        Noise scales sigma_a, sigma_w.
+    gravity_mps2 : float
+        Gravity magnitude g, m/s^2.
 
     Returns
     -------
@@ -141,12 +149,19 @@ def shoe_statistic(acc_b: np.ndarray, gyr_b: np.ndarray, sigma_acc_mps2: float,
 def shoe_statistic_trailing(acc_b: np.ndarray, gyr_b: np.ndarray, window: int,
                             sigma_acc_mps2: float, sigma_gyr_rps: float,
                             gravity_mps2: float = GRAVITY_MPS2) -> np.ndarray:
-    """SHOE statistic of the trailing window ending at each sample (NaN for the first W-1).
+    """
+    SHOE statistic of the trailing window ending at each sample (NaN for the first W-1).
 
     Parameters
     ----------
-    acc_b, gyr_b : (N, 3) samples.
-    window : W, samples.
+    acc_b, gyr_b : (N, 3) array
+        Samples.
+    window : int
+        W, samples.
+    sigma_acc_mps2, sigma_gyr_rps : float
+        Noise scales sigma_a, sigma_w.
+    gravity_mps2 : float
+        Gravity magnitude g, m/s^2.
 
     Returns
     -------
@@ -162,7 +177,8 @@ def shoe_statistic_trailing(acc_b: np.ndarray, gyr_b: np.ndarray, window: int,
 
 
 def adaptive_threshold(peak_gyr_rps: float, params: ZuptParams) -> float:
-    """Threshold for the gait's intensity: gamma = clip(gamma_0 (m / m_0)^p, gamma_min, gamma_max).
+    """
+    Threshold for the gait's intensity: gamma = clip(gamma_0 (m / m_0)^p, gamma_min, gamma_max).
 
     m is the median of the peak angular-rate magnitudes of the last blocks. A faster gait never
     stops the foot as completely, so its stance statistic stays higher: on the 36 pyshoe
@@ -179,7 +195,8 @@ def adaptive_threshold(peak_gyr_rps: float, params: ZuptParams) -> float:
 
 
 class GaitIntensity:
-    """Median peak |angular rate| of the last blocks, the m of adaptive_threshold.
+    """
+    Median peak |angular rate| of the last blocks, the m of adaptive_threshold.
 
     Blocks of fixed duration, not swings, so the measure does not depend on the detector it
     steers (a run that starts fast would otherwise never leave the start threshold).
@@ -207,7 +224,8 @@ class GaitIntensity:
 
 
 class ShoeDetector:
-    """Per-sample SHOE detector over a trailing window, eq. (4) from running sums.
+    """
+    Per-sample SHOE detector over a trailing window, eq. (4) from running sums.
 
     ``update(acc_b, gyr_b)`` returns T_k of the window ending at the new sample, or None while
     the first window fills. The sums are rebuilt from the ring buffer each time it wraps, so
