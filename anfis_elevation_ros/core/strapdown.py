@@ -33,6 +33,8 @@ References
 
 """
 
+import math
+
 import numpy as np
 
 from .frames import GRAVITY_MPS2, quat_multiply, quat_to_dcm, rotvec_to_quat
@@ -53,7 +55,7 @@ def update_attitude(q_nb: np.ndarray, gyr_b: np.ndarray, dt_s: float) -> np.ndar
 
     """
     q = quat_multiply(q_nb, rotvec_to_quat(gyr_b * dt_s))
-    return q / np.linalg.norm(q)
+    return q / math.sqrt(q @ q)
 
 
 def update_velocity(vel_n: np.ndarray, C_nb_mid: np.ndarray, acc_b: np.ndarray, dt_s: float,

@@ -1,0 +1,74 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Benchmark of the navigator: accuracy on real recordings and replay throughput (a script).
+
+Run from the repository root: ``python test/benchmarks/bench_accuracy.py``. Prints the pyshoe
+VICON position error (36 trials, one parameter set), the final heights on the real stair
+recordings, and IMU samples/s through the full replay pipeline (input gate, mechanisation,
+detector, EKF, features, ANFIS) on one core.
+"""
+
+import time
+
+from anfis_elevation_ros.core.navigator import FootNavigator
+from anfis_elevation_ros.core.params import load_model, load_pipeline_params
+from anfis_elevation_ros.core.sim import building_walk, simulate_walk
+from anfis_elevation_ros.tools.datasets import (
+    dataset_files, load_mad_stairs, load_pyshoe_vicon, load_xio)
+from anfis_elevation_ros.tools.metrics import pyshoe_position_error
+from anfis_elevation_ros.tools.replay import replay_recording
+import numpy as np
+
+
+def pyshoe_errors():
+    errors = []
+    for path in dataset_files('pyshoe_vicon'):
+        recording, truth = load_pyshoe_vicon(path)
+        track, _ = FootNavigator().run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
+        first = np.searchsorted(recording.stamp_ns, track[0].stamp_ns)
+        errors.append(pyshoe_position_error(np.array([p.pos_n for p in track]), truth[first:]))
+    return np.array(errors)
+
+
+def final_height(recording):
+    track, _ = FootNavigator().run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
+    return track[-1].pos_n[2]
+
+
+def main():
+    errors = pyshoe_errors()
+    print(f'pyshoe VICON, {len(errors)} trials: median {np.median(errors):.3f} m, mean '
+          f'{errors.mean():.3f} m, max {errors.max():.3f} m, {np.sum(errors > 0.2)} above 0.2 m')
+    for path in dataset_files('mad_stairs'):
+        heights = [final_height(load_mad_stairs(path, foot)) for foot in ('left', 'right')]
+        print(f'{path.name}: final height left {heights[0]:+.2f} m, right {heights[1]:+.2f} m')
+    for path in dataset_files('xio_foot'):
+        print(f'{path.name}: final height {final_height(load_xio(path)):+.2f} m')
+
+    walk = simulate_walk(building_walk(), rng=np.random.default_rng(0), rate_hz=200.0,
+                         imu='consumer')
+    recording = walk.to_recording()
+    pipeline = load_pipeline_params()
+    model = load_model(pipeline.model_path)
+    start = time.process_time()
+    replay_recording(recording, pipeline, model)
+    cpu_s = time.process_time() - start
+    print(f'replay throughput: {len(recording) / cpu_s:.0f} IMU samples per CPU second '
+          f'({len(recording)} samples, {walk.duration_s:.0f} s of building walk at 200 Hz)')
+
+
+if __name__ == '__main__':
+    main()
