@@ -92,3 +92,19 @@ def test_sample_walk_returns_to_its_start_height():
 
 def arrays(w):
     return w.stamp_ns, w.acc_b, w.gyr_b
+
+
+def test_a_resumed_navigator_starts_at_the_saved_position_and_heading():
+    w = walk(imu='ideal')
+    fresh = FootNavigator()
+    fresh_track, _ = fresh.run(w.stamp_ns, w.acc_b, w.gyr_b)
+    start = np.array([10.0, -5.0, 3.0])
+    resumed = FootNavigator(start_pos_n=start, start_heading_rad=1.0)
+    resumed_track, _ = resumed.run(w.stamp_ns, w.acc_b, w.gyr_b)
+    assert np.allclose(resumed_track[0].pos_n, start)
+    # The same walk, turned by 1 rad about the resumed start.
+    turn = np.angle(np.exp(1j * (resumed.heading_rad - fresh.heading_rad)))
+    assert turn == pytest.approx(1.0, abs=1e-6)
+    c, s = np.cos(1.0), np.sin(1.0)
+    expected = start + np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ fresh_track[-1].pos_n
+    assert np.allclose(resumed_track[-1].pos_n, expected, atol=1e-6)

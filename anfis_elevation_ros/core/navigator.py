@@ -23,7 +23,8 @@ Start-up: the navigator estimates the sample rate from the first stamps (unless 
 waits for the first stance of at least ``init_stance_s`` (a firefighter may start walking at
 once), takes roll and pitch from gravity, the gyro bias from the mean rate when the foot was
 truly still, and the accelerometer bias along gravity from the magnitude it reads (which
-must be g at rest), and starts navigating at the origin with heading 0.
+must be g at rest), and starts navigating at the origin with heading 0, or at a position and
+heading resumed from a saved state (``start_pos_n``, ``start_heading_rad``).
 """
 
 from collections import deque
@@ -35,7 +36,8 @@ import numpy as np
 from . import ekf
 from .ekf import EkfParams
 from .errors import InputError
-from .frames import dcm_to_quat, GRAVITY_MPS2, level_attitude_from_gravity, quat_to_dcm
+from .frames import dcm_to_quat, dcm_to_rpy, GRAVITY_MPS2, level_attitude_from_gravity
+from .frames import quat_to_dcm
 from .frames import rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
 from .strapdown import strapdown_step
@@ -121,8 +123,12 @@ class FootNavigator:
 
     Parameters
     ----------
-    params : ZuptParams
-        NavigatorParams.
+    params : NavigatorParams
+        Detector, filter, gait and start-up parameters.
+    start_pos_n : (3,) array or None
+        Position to start at, m (resuming a saved state); default the origin.
+    start_heading_rad : float
+        IMU yaw to start with, rad (resuming a saved state).
 
     Examples
     --------
@@ -134,9 +140,16 @@ class FootNavigator:
 
     """
 
-    def __init__(self, params: NavigatorParams = None):
+    def __init__(self, params: NavigatorParams = None, start_pos_n=None,
+                 start_heading_rad: float = 0.0):
         self.params = params or NavigatorParams()
         self.status = NavigatorStatus()
+        # Where navigation starts: the origin, or a resumed position and heading.
+        self._start_pos_n = np.zeros(3) if start_pos_n is None else np.array(start_pos_n, float)
+        self._start_heading_rad = float(start_heading_rad)
+        if self._start_pos_n.shape != (3,) or not np.all(np.isfinite(self._start_pos_n)) \
+                or not math.isfinite(self._start_heading_rad):
+            raise InputError('start position must be 3 finite numbers and heading finite')
         self._pending = deque(maxlen=RATE_ESTIMATE_SAMPLES)
         self._detector = None
         self._rest = None
@@ -162,10 +175,11 @@ class FootNavigator:
         acc_mean = rest[:, 0].mean(axis=0)
         rest_g = float(np.linalg.norm(acc_mean))
         C_nb = level_attitude_from_gravity(acc_mean)
+        C_nb = rpy_to_dcm(0.0, 0.0, self._start_heading_rad - dcm_to_rpy(C_nb)[2]) @ C_nb
         still = np.max(np.abs(rest[:, 1])) <= p.still_gyr_rps
         self._q = dcm_to_quat(C_nb)
         self._vel = np.zeros(3)
-        self._pos = np.zeros(3)
+        self._pos = self._start_pos_n.copy()
         self._acc_bias = (rest_g - p.gravity_mps2) * acc_mean / rest_g
         self._detector.gravity_mps2 = rest_g
         self._gyr_bias = rest[:, 1].mean(axis=0) if still else np.zeros(3)
@@ -288,6 +302,11 @@ class FootNavigator:
     def _update_threshold(self, gyr_b):
         if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b @ gyr_b)):
             self._threshold = self._current_threshold()
+
+    @property
+    def heading_rad(self) -> float:
+        """Return the yaw of the IMU (ZYX Euler), rad; 0 before start-up."""
+        return float(dcm_to_rpy(quat_to_dcm(self._q))[2]) if self.status.initialised else 0.0
 
     def _current_threshold(self):
         zupt = self.params.zupt
