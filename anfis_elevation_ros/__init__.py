@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Floor and height of a firefighter from one foot-mounted IMU (patent CN111649742A).
+"""
+Floor and height of a firefighter from one foot-mounted IMU (patent CN111649742A).
 
 The numpy core (``anfis_elevation_ros.core``) holds the method; ROS 2 nodes and the command-line
 tools are thin adapters around it.
