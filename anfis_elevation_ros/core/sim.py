@@ -17,9 +17,10 @@ Foot-mounted IMU simulator: a walk plan, its true foot trajectory and the IMU re
 
 A walk is a sequence of ``Segment`` s (level walking, stair flights, turns on the spot, standing).
 Each stride of the instrumented foot is a swing followed by a stance (foot flat and still). During
-the swing every coordinate -- horizontal progress, height, roll, pitch, yaw -- follows a chain of
-minimum-jerk (quintic) pieces between knots, so position, velocity, acceleration, attitude and
-Euler rates are analytic and the ideal IMU readings are exact samples of
+the swing every coordinate -- horizontal progress, height, roll, pitch, yaw -- follows a C2
+chain of quintic pieces between knots that fix the value and its first two derivatives
+(``knot_profile``), so position, velocity, acceleration, attitude and Euler rates are analytic
+and the ideal IMU readings are exact samples of
 
     f_b = C_bn (a_n - g_n),  g_n = [0, 0, -g]          (specific force, REP 145 sign)
     w_b = C_bf E(roll, pitch) [roll', pitch', yaw']     (rate of b w.r.t. n, in b)
@@ -32,12 +33,30 @@ Sign of foot pitch: REP 103 pitch is a right-handed rotation about the foot's y 
 a positive pitch puts the toe *down*. The gait parameters are given as the foot's *elevation*
 (toe up positive, the clinical and aviation sign): ``pitch = -elevation``.
 
-Gait shape (one stride, swing fraction u from 0 to 1; the stance follows):
-- level: heel off and toe off to elevation -30..-50 deg at u = 0.35, toe up +10..+20 deg before
-  heel strike at u = 0.8, foot flat at u = 1.
-- stairs up: rise above the target tread first, then move over it; toe-off -15..-30 deg, lands
-  nearly flat (0..+6 deg).
-- stairs down: move over the nose first, then drop; toe lands first (-8..-20 deg).
+A real foot is never still while it moves: it rotates through the whole swing and lands with
+an impact (on the MaD stair recordings [5], 72 swings of both feet, the least |w| between 15 and
+85 % of a swing has a median of 1 rad/s, the pitch rate peaks at 5-8 rad/s and the impacts
+reach the 16 g range of the sensor). A swing in which the foot travels fast without
+rotating and with |f| = g cannot be told from a stance by any inertial zero-velocity detector,
+so the swing is built never to have one:
+
+- no knot makes the foot dwell: where the elevation turns (toe-off, mid-swing, landing) its
+  rate passes through zero with a nonzero angular acceleration, and everywhere else a knot
+  keeps the slope of its neighbours (``_knots``);
+- the foot rolls (inversion / eversion, ``swing_roll_rps``) in quadrature with the pitch: the
+  roll crosses zero at its fastest, ``swing_roll_rps`` (0.8-1.6 rad/s), just where the pitch
+  turns, so |w| stays near 0.8 rad/s or above through the swing;
+- touch-down: the sole meets the ground moving forward and down (``*_touchdown_mps``,
+  ``*_sink_mps``) and stops under a triangular deceleration pulse lasting 2 ``impact_s``
+  (a 2-6 g spike), then rolls flat over the heel or toe in ``foot_flat_s`` and stops abruptly.
+
+Gait shape (one stride, u_c the contact time as a fraction of the swing, about 0.8):
+- level: heel off and toe off to elevation -30..-50 deg at 0.42 u_c, dorsiflexion through the
+  swing (peak pitch rate 5-8 rad/s) to +10..+20 deg at heel strike, foot flat.
+- stairs up: rise above the target tread first, then move over it; toe-off -12..-25 deg, toe up
+  +6..+16 deg in mid-swing, forefoot first (-3..-8 deg); peak pitch rate 2-5 rad/s.
+- stairs down: move over the nose first, then drop; toe-off -8..-20 deg, toe up +4..+12 deg,
+  toe first (-6..-16 deg). On stairs a step-to stride (one step) rolls the foot 30 % less.
 The foot is rigid: while it is pitched the IMU is also raised by ``toe * sin(-elevation)`` (toe
 down) or ``heel * sin(elevation)`` (toe up), the rise of rolling over the toe at heel-off and
 over the heel at heel strike, so the sole does not pass through the floor or the stair noses.
@@ -59,6 +78,10 @@ References
 [3] IEEE Std 952-1997, gyro noise terms (angle random walk, rate random walk).
 [4] P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated Navigation Systems,
     2nd ed., Artech House, 2013, ch. 4 (IMU error models).
+[5] N. Roth et al., MaD stair ambulation dataset, Sensors 21(19):6559, 2021 (foot IMUs on
+    stairs; subject 11 is in the project's shared data, mad_stairs/).
+[6] F. N. Fritsch and R. E. Carlson, "Monotone piecewise cubic interpolation", SIAM J. Numer.
+    Anal. 17(2), 1980 (the harmonic-mean knot slopes).
 
 """
 
@@ -181,7 +204,11 @@ class GaitParams:
     Defaults are typical adult values: level strides of 1.2-1.5 m at about one stride per
     second with a foot-flat stance of 35-50 % of the cycle; foot elevation angles as in the
     module docstring (negative = toe down). Stair stride duration is
-    ``base + per_step * n_steps``.
+    ``base + per_step * n_steps``. Touch-down (module docstring): ``*_touchdown_mps`` is the
+    forward and ``*_sink_mps`` the downward speed of the IMU when the sole meets the ground,
+    ``impact_s`` the rise (and the fall) time of the deceleration pulse that stops it,
+    ``foot_flat_s`` the time to roll flat after it; ``swing_roll_rps`` is the roll rate where
+    the pitch turns (a random sign per stride).
     """
 
     level_stride_length_m: tuple = (1.2, 1.5)
@@ -190,20 +217,29 @@ class GaitParams:
     level_clearance_m: tuple = (0.04, 0.08)
     level_toe_off_deg: tuple = (-50.0, -30.0)
     level_landing_deg: tuple = (10.0, 20.0)
+    level_touchdown_mps: tuple = (0.4, 0.8)
+    level_sink_mps: tuple = (0.2, 0.5)
     stair_stride_base_s: tuple = (0.55, 0.70)
     stair_stride_per_step_s: tuple = (0.26, 0.32)
     stair_clearance_m: tuple = (0.04, 0.07)
-    up_toe_off_deg: tuple = (-30.0, -15.0)
-    up_landing_deg: tuple = (0.0, 6.0)
-    down_toe_off_deg: tuple = (-25.0, -10.0)
-    down_mid_swing_deg: tuple = (0.0, 10.0)
-    down_landing_deg: tuple = (-20.0, -8.0)
+    stair_touchdown_mps: tuple = (0.1, 0.3)
+    up_toe_off_deg: tuple = (-25.0, -12.0)
+    up_mid_swing_deg: tuple = (6.0, 16.0)
+    up_landing_deg: tuple = (-8.0, -3.0)
+    up_sink_mps: tuple = (0.3, 0.6)
+    down_toe_off_deg: tuple = (-20.0, -8.0)
+    down_mid_swing_deg: tuple = (4.0, 12.0)
+    down_landing_deg: tuple = (-16.0, -6.0)
+    down_sink_mps: tuple = (0.3, 0.6)
     turn_stride_s: tuple = (0.8, 1.0)
     turn_clearance_m: tuple = (0.02, 0.04)
     turn_toe_off_deg: tuple = (-15.0, -5.0)
+    turn_sink_mps: tuple = (0.1, 0.2)
+    impact_s: tuple = (0.02, 0.04)
+    foot_flat_s: tuple = (0.06, 0.10)
     toe_from_imu_m: float = 0.12         # along the foot, IMU to the toe pivot
     heel_from_imu_m: float = 0.10        # along the foot, IMU to the heel pivot
-    roll_sigma_deg: float = 2.0          # per-stride swing roll, normal, clipped to 3 sigma
+    swing_roll_rps: tuple = (0.8, 1.6)
     stride_length_jitter: float = 0.03   # relative std of a Segment's given stride length
 
     def __post_init__(self):
@@ -213,13 +249,20 @@ class GaitParams:
                 if len(value) != 2 or not value[0] <= value[1]:
                     raise InputError(f'GaitParams.{field.name}={value} must be (low, high) '
                                      'with low <= high')
-                if field.name.endswith(('_m', '_s', 'fraction')) and value[0] <= 0:
+                if field.name.endswith(('_m', '_s', '_mps', 'fraction')) and value[0] <= 0:
                     raise InputError(f'GaitParams.{field.name}={value} must be positive')
         _check_range('GaitParams.stance_fraction', self.stance_fraction[1], 0.0, 0.8)
-        _check_range('GaitParams.roll_sigma_deg', self.roll_sigma_deg, 0.0, 10.0)
+        _check_range('GaitParams.swing_roll_rps', self.swing_roll_rps[1], 0.0, 5.0)
         _check_range('GaitParams.stride_length_jitter', self.stride_length_jitter, 0.0, 0.2)
         _check_range('GaitParams.toe_from_imu_m', self.toe_from_imu_m, 0.0, 0.3)
         _check_range('GaitParams.heel_from_imu_m', self.heel_from_imu_m, 0.0, 0.3)
+        shortest_swing_s = (1.0 - self.stance_fraction[1]) * min(
+            self.level_stride_s[0], self.turn_stride_s[0],
+            self.stair_stride_base_s[0] + self.stair_stride_per_step_s[0])
+        _check_range('GaitParams 2 * impact_s[1] + foot_flat_s[1]',
+                     2.0 * self.impact_s[1] + self.foot_flat_s[1], 0.0, 0.5 * shortest_swing_s,
+                     f'at most half the shortest swing ({shortest_swing_s:.3f} s), so that '
+                     'the touch-down fits in every swing')
 
 
 # ----------------------------------------------------------------------------------------------
@@ -231,7 +274,7 @@ class ImuErrorModel:
     """
     Errors of a triad of gyros and accelerometers (all 1-sigma, per axis).
 
-    measured = Q(sat((I + M) true + b0 + b_rw(t) + n))
+    measured = Q(sat((I + M) true + b0 + b_rw(t) + n)),  true = x(t_k) or its interval mean
 
     Attributes
     ----------
@@ -246,6 +289,12 @@ class ImuErrorModel:
         misalignment / cross-axis sensitivity), rad.
     gyr_range_rps, acc_range_mps2 : full scale; readings saturate at +-range (inf: none).
     adc_bits : signed output word length; the step is range / 2^(bits-1) (0: no quantisation).
+    interval_mean : False: each reading samples the motion at its stamp; True: it is the mean
+        over the sample interval centred on the stamp (``interval_means``), as an IMU that
+        outputs velocity and angle increments gives, and close to what the decimation filter of
+        a MEMS part does. A foot's touch-down lasts a few samples at 100 Hz: instantaneous
+        samples of it alias, and a strapdown integration of them misses up to 0.15 m/s of its
+        velocity change; the means keep the increments.
 
     """
 
@@ -263,11 +312,14 @@ class ImuErrorModel:
     gyr_range_rps: float = math.inf
     acc_range_mps2: float = math.inf
     adc_bits: int = 0
+    interval_mean: bool = False
 
     def __post_init__(self):
+        if not isinstance(self.interval_mean, bool):
+            raise InputError(f'ImuErrorModel.interval_mean={self.interval_mean!r} must be a bool')
         for field in fields(self):
             value = getattr(self, field.name)
-            if field.name != 'name' and not value >= 0:
+            if field.name not in ('name', 'interval_mean') and not value >= 0:
                 raise InputError(f'ImuErrorModel.{field.name}={value} must be >= 0')
         _check_range('ImuErrorModel.gyr_range_rps', self.gyr_range_rps, 1e-3, math.inf)
         _check_range('ImuErrorModel.acc_range_mps2', self.acc_range_mps2, 1e-3, math.inf)
@@ -294,7 +346,8 @@ IMU_PRESETS = {
     'ideal': ImuErrorModel(name='ideal'),
     # Tactical-grade MEMS (Groves 2013 ch. 4 class; e.g. ADIS16495 / HG1700 order): ARW
     # 0.1 deg/sqrt(h), bias 1 deg/h, VRW 0.03 m/s/sqrt(h), bias 0.5 mg. Bias walks are chosen so
-    # the bias changes by about its turn-on value over 10 min. Ranges are not limiting.
+    # the bias changes by about its turn-on value over 10 min. Ranges are not limiting. Such
+    # units output velocity and angle increments: interval means.
     'tactical': ImuErrorModel(
         name='tactical',
         gyr_noise_density_rps_rthz=0.1 / 60.0 * DEG,            # 0.1 deg/sqrt(h)
@@ -304,7 +357,7 @@ IMU_PRESETS = {
         gyr_bias_walk_rps_rts=1.0 / 3600.0 * DEG / math.sqrt(600.0),
         acc_bias_walk_mps2_rts=0.5e-3 * _G0 / math.sqrt(600.0),
         gyr_scale_sigma=1e-4, acc_scale_sigma=3e-4,             # 100 / 300 ppm
-        gyr_misalign_sigma_rad=1e-4, acc_misalign_sigma_rad=1e-4),
+        gyr_misalign_sigma_rad=1e-4, acc_misalign_sigma_rad=1e-4, interval_mean=True),
     # Consumer MEMS, MPU-9250 / BMI160 class. Noise densities from the MPU-9250 datasheet [2]:
     # gyro 0.01 deg/s/sqrt(Hz), acc 300 ug/sqrt(Hz).
     # Ranges +-2000 deg/s and +-16 g, 16-bit words (16.4 LSB/(deg/s), 2048 LSB/g) [2].
@@ -312,6 +365,7 @@ IMU_PRESETS = {
     # calibration: 0.5 deg/s and 30 mg, 0.5 %, 0.5 deg (untrimmed datasheet tolerances are
     # +-5 deg/s, +-60..80 mg, +-3 %, +-2 % cross-axis [2]). Bias walks: 0.002 deg/s/sqrt(s) and
     # 0.1 mg/sqrt(s), i.e. 0.05 deg/s and 2.4 mg after 10 min (assumed; datasheets give none).
+    # Their digital low-pass and decimation filters are modelled by interval means.
     'consumer': ImuErrorModel(
         name='consumer',
         gyr_noise_density_rps_rthz=0.01 * DEG,
@@ -322,7 +376,8 @@ IMU_PRESETS = {
         acc_bias_walk_mps2_rts=0.1e-3 * _G0,
         gyr_scale_sigma=0.005, acc_scale_sigma=0.005,
         gyr_misalign_sigma_rad=0.5 * DEG, acc_misalign_sigma_rad=0.5 * DEG,
-        gyr_range_rps=2000.0 * DEG, acc_range_mps2=16.0 * _G0, adc_bits=16),
+        gyr_range_rps=2000.0 * DEG, acc_range_mps2=16.0 * _G0, adc_bits=16,
+        interval_mean=True),
 }
 
 
@@ -492,27 +547,49 @@ class SimulatedWalk:
 # Equations
 # ----------------------------------------------------------------------------------------------
 
-def min_jerk(w: np.ndarray) -> tuple:
+def quintic_hermite(w: np.ndarray, y0, v0, a0, y1, v1, a1) -> tuple:
     """
-    Minimum-jerk profile on w in [0, 1] (clipped) and its derivatives d/dw, d2/dw2.
+    Quintic through (y, y', y'') at w = 0 and w = 1, and its derivatives d/dw, d2/dw2.
 
-    s = 10 w^3 - 15 w^4 + 6 w^5,  s' = 30 w^2 (1 - w)^2,  s'' = 60 w (1 - w) (1 - 2 w);
-    s, s', s'' are 0, 0, 0 at w = 0 and 1, 0, 0 at w = 1 (Flash and Hogan 1985).
+    p(w) = sum_k c_k w^k, k = 0..5, with c0 = y0, c1 = v0, c2 = a0 / 2 and, from
+    Y = y1 - c0 - c1 - c2, V = v1 - c1 - 2 c2, A = a1 - 2 c2:
+    c3 = 10 Y - 4 V + A / 2,  c4 = -15 Y + 7 V - A,  c5 = 6 Y - 3 V + A / 2.
+    With zero end derivatives it is the minimum-jerk profile y0 + (y1 - y0) s(w).
+
+    Parameters
+    ----------
+    w : (K,) array
+        Normalised time in [0, 1].
+    y0, v0, a0, y1, v1, a1 : (K,) arrays or floats
+        Value, first and second derivative (per unit w) at w = 0 and at w = 1.
+
+    Returns
+    -------
+    p, dp/dw, d2p/dw2 as (K,) arrays.
+
     """
-    w = np.clip(w, 0.0, 1.0)
-    s = w ** 3 * (10.0 - 15.0 * w + 6.0 * w * w)
-    ds = 30.0 * w * w * (1.0 - w) ** 2
-    dds = 60.0 * w * (1.0 - w) * (1.0 - 2.0 * w)
-    return s, ds, dds
+    c2 = 0.5 * a0
+    big_y = y1 - y0 - v0 - c2
+    big_v = v1 - v0 - 2.0 * c2
+    big_a = a1 - 2.0 * c2
+    c3 = 10.0 * big_y - 4.0 * big_v + 0.5 * big_a
+    c4 = -15.0 * big_y + 7.0 * big_v - big_a
+    c5 = 6.0 * big_y - 3.0 * big_v + 0.5 * big_a
+    p = y0 + w * (v0 + w * (c2 + w * (c3 + w * (c4 + w * c5))))
+    dp = v0 + w * (2.0 * c2 + w * (3.0 * c3 + w * (4.0 * c4 + w * 5.0 * c5)))
+    ddp = 2.0 * c2 + w * (6.0 * c3 + w * (12.0 * c4 + w * 20.0 * c5))
+    return p, dp, ddp
 
 
-def knot_profile(u: np.ndarray, knots_u, knots_y, duration_s: float) -> tuple:
+def knot_profile(u: np.ndarray, knots_u, knots_y, duration_s: float, knots_v=None,
+                 knots_a=None) -> tuple:
     """
-    Chain of minimum-jerk pieces through knots, and its first two time derivatives.
+    Chain of quintic pieces through knots, and its first two time derivatives.
 
-    y(u) = y_i + (y_(i+1) - y_i) s(w),  w = (u - u_i) / (u_(i+1) - u_i) for u in [u_i, u_(i+1)];
-    u = (t - t0) / duration_s, so dy/dt = dy/du / duration_s. Velocity and acceleration are zero
-    at every knot; the chain is C2.
+    On [u_i, u_(i+1)], with h = u_(i+1) - u_i and w = (u - u_i) / h, y(u) is the quintic_hermite
+    through (y_i, h v_i, h^2 a_i) and (y_(i+1), h v_(i+1), h^2 a_(i+1)), where v and a are dy/du
+    and d2y/du2 at the knots (zero when not given: a chain of minimum-jerk pieces). The chain is
+    C2; u = (t - t0) / duration_s, so dy/dt = dy/du / duration_s.
 
     Parameters
     ----------
@@ -524,6 +601,8 @@ def knot_profile(u: np.ndarray, knots_u, knots_y, duration_s: float) -> tuple:
         Values at the knots.
     duration_s : float
         Length of the u interval, s.
+    knots_v, knots_a : (J,) arrays or None
+        dy/du and d2y/du2 at the knots (None: zero).
 
     Returns
     -------
@@ -532,12 +611,16 @@ def knot_profile(u: np.ndarray, knots_u, knots_y, duration_s: float) -> tuple:
     """
     knots_u = np.asarray(knots_u, dtype=float)
     knots_y = np.asarray(knots_y, dtype=float)
+    knots_v = np.zeros_like(knots_y) if knots_v is None else np.asarray(knots_v, dtype=float)
+    knots_a = np.zeros_like(knots_y) if knots_a is None else np.asarray(knots_a, dtype=float)
     i = np.clip(np.searchsorted(knots_u, u, side='right') - 1, 0, len(knots_u) - 2)
     width = knots_u[i + 1] - knots_u[i]
-    rise = knots_y[i + 1] - knots_y[i]
-    s, ds, dds = min_jerk((u - knots_u[i]) / width)
+    w = np.clip((u - knots_u[i]) / width, 0.0, 1.0)
+    p, dp, ddp = quintic_hermite(w, knots_y[i], knots_v[i] * width, knots_a[i] * width ** 2,
+                                 knots_y[i + 1], knots_v[i + 1] * width,
+                                 knots_a[i + 1] * width ** 2)
     scale = 1.0 / (width * duration_s)
-    return knots_y[i] + rise * s, rise * ds * scale, rise * dds * scale * scale
+    return p, dp * scale, ddp * scale * scale
 
 
 def euler_zyx_to_dcm(roll, pitch, yaw) -> np.ndarray:
@@ -612,7 +695,11 @@ def _quat_multiply_batch(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class _StridePlan:
-    """One stride: swing from t_start_s for swing_s, then stance_s at rest."""
+    """
+    One stride: swing from t_start_s for swing_s, then stance_s at rest.
+
+    Each ``*_knots`` is a knot chain (u, y, dy/du, d2y/du2) for knot_profile.
+    """
 
     t_start_s: float
     swing_s: float
@@ -621,12 +708,12 @@ class _StridePlan:
     pos1_n: np.ndarray
     yaw0: float
     yaw1: float
-    progress_knots: tuple   # (u, fraction of the horizontal displacement)
-    z_knots: tuple          # (u, height relative to the start)
-    lift_knots: tuple       # (u, extra height from rolling over the toe or heel)
-    elev_knots: tuple       # (u, elevation rad, toe up positive)
-    yaw_knots: tuple        # (u, fraction of the heading change)
-    roll_peak: float
+    progress_knots: tuple   # fraction of the horizontal displacement
+    z_knots: tuple          # height relative to the start, m
+    lift_knots: tuple       # extra height from rolling over the toe or heel, m
+    elev_knots: tuple       # elevation, rad, toe up positive
+    roll_knots: tuple       # roll, rad
+    yaw_knots: tuple        # fraction of the heading change
     mode: int
     n_steps: int
     step_height_m: float
@@ -637,14 +724,38 @@ def _uniform(rng: np.random.Generator, bounds: tuple) -> float:
     return float(rng.uniform(bounds[0], bounds[1]))
 
 
-def _knots(*pairs) -> tuple:
-    """Knots (u, y) sorted by u; pairs at equal u keep the first."""
-    u, y = [], []
-    for ui, yi in pairs:
-        if not u or ui > u[-1]:
-            u.append(float(ui))
-            y.append(float(yi))
-    return tuple(u), tuple(y)
+def _knots(*specs) -> tuple:
+    """
+    Knot chain (u, y, v, a), v = dy/du and a = d2y/du2, from specs (u, y[, v[, a]]).
+
+    Specs at an equal u keep the first. Derivatives not given (or None) are filled so that the
+    chain moves smoothly through its knots without lingering: v = a = 0 at the ends and next
+    to a plateau (an adjacent secant is 0); at an extremum v = 0 and a is the second difference
+    2 (s_r - s_l) / (h_l + h_r), so the rate passes through zero instead of dwelling near it as
+    a minimum-jerk piece does; elsewhere v is the weighted harmonic mean of the secants s_l, s_r
+    (monotone, as in PCHIP, Fritsch and Carlson 1980) and a the second difference.
+    """
+    chain = []
+    for spec in specs:
+        if not chain or spec[0] > chain[-1][0]:
+            chain.append(tuple(float(x) if x is not None else None for x in spec)
+                         + (None,) * (4 - len(spec)))
+    u = [c[0] for c in chain]
+    y = [c[1] for c in chain]
+    v, a = [], []
+    for i, (_, _, vi, ai) in enumerate(chain):
+        auto_v = auto_a = 0.0
+        if 0 < i < len(chain) - 1:
+            h_l, h_r = u[i] - u[i - 1], u[i + 1] - u[i]
+            s_l, s_r = (y[i] - y[i - 1]) / h_l, (y[i + 1] - y[i]) / h_r
+            if s_l != 0.0 and s_r != 0.0:
+                auto_a = 2.0 * (s_r - s_l) / (h_l + h_r)
+                if s_l * s_r > 0.0:
+                    w_l, w_r = 2.0 * h_r + h_l, h_r + 2.0 * h_l
+                    auto_v = (w_l + w_r) / (w_l / s_l + w_r / s_r)
+        v.append(auto_v if vi is None else vi)
+        a.append(auto_a if ai is None else ai)
+    return tuple(u), tuple(y), tuple(v), tuple(a)
 
 
 def _stride_duration_s(seg: Segment, n_steps: int, gait: GaitParams, rng) -> float:
@@ -670,9 +781,7 @@ def _plan_strides(segments, gait: GaitParams, step_height_m: float, rng, t0_s: f
             n_steps, turn, dz, length, mode, riser_m = stride
             duration = _stride_duration_s(seg, n_steps, gait, rng)
             stance = duration * _uniform(rng, gait.stance_fraction)
-            roll_limit = 3.0 * gait.roll_sigma_deg
-            roll_peak = float(np.clip(rng.normal(0.0, gait.roll_sigma_deg), -roll_limit,
-                                      roll_limit)) * DEG
+            roll_rate = _uniform(rng, gait.swing_roll_rps) * float(rng.choice((-1.0, 1.0)))
             if seg.kind == 'level':
                 if length is None:
                     length = _uniform(rng, gait.level_stride_length_m)
@@ -681,11 +790,12 @@ def _plan_strides(segments, gait: GaitParams, step_height_m: float, rng, t0_s: f
                         np.clip(rng.normal(), -3.0, 3.0))
             heading = yaw + 0.5 * turn
             step = np.array([length * math.cos(heading), length * math.sin(heading), dz])
-            shape = _swing_shape(seg.kind, mode, dz, gait, rng)
+            shape = _swing_shape(seg.kind, mode, n_steps, dz, length, duration - stance,
+                                 roll_rate, gait, rng)
             shape['lift_knots'] = _pivot_lift_knots(shape['elev_knots'], gait)
             plans.append(_StridePlan(
                 t_start_s=t, swing_s=duration - stance, stance_s=stance, pos0_n=pos.copy(),
-                pos1_n=pos + step, yaw0=yaw, yaw1=yaw + turn, roll_peak=roll_peak, mode=mode,
+                pos1_n=pos + step, yaw0=yaw, yaw1=yaw + turn, mode=mode,
                 n_steps=n_steps, step_height_m=riser_m,
                 segment_index=index, **shape))
             t += duration
@@ -715,57 +825,126 @@ def _pivot_lift_knots(elev_knots: tuple, gait: GaitParams) -> tuple:
     """
     Knots of the IMU's rise as the foot rolls over its toe or heel (rigid-foot pivot).
 
-    lift_i = toe * sin(-e_i) for toe down (e_i < 0), heel * sin(e_i) for toe up, at the
-    elevation knots: the toe or heel stays on the ground at heel-off and landing.
+    lift = toe sin(-e) for toe down (e < 0), heel sin(e) for toe up, with its exact first and
+    second derivatives at the elevation knots (lift' = r cos(e) e',
+    lift'' = r (cos(e) e'' - sin(e) e'^2), r = heel, or -toe for toe down): the toe or heel
+    stays on the ground at heel-off and while the sole rolls flat after touch-down.
     """
-    u, elev = elev_knots
-    lift = [gait.toe_from_imu_m * math.sin(-e) if e < 0 else gait.heel_from_imu_m * math.sin(e)
-            for e in elev]
-    return tuple(u), tuple(lift)
+    lift, dlift, ddlift = [], [], []
+    for e, de, dde in zip(*elev_knots[1:]):
+        r = gait.heel_from_imu_m if e > 0.0 or (e == 0.0 and de > 0.0) else -gait.toe_from_imu_m
+        lift.append(r * math.sin(e))
+        dlift.append(r * math.cos(e) * de)
+        ddlift.append(r * (math.cos(e) * dde - math.sin(e) * de * de))
+    return tuple(elev_knots[0]), tuple(lift), tuple(dlift), tuple(ddlift)
 
 
-def _swing_shape(kind: str, mode: int, dz: float, gait: GaitParams, rng) -> dict:
-    """Knots of the swing for one stride; the draws happen in a fixed order."""
+def _swing_shape(kind: str, mode: int, n_steps: int, dz: float, length_m: float,
+                 swing_s: float, roll_rate: float, gait: GaitParams, rng) -> dict:
+    """
+    Knot chains of one swing; the draws happen in a fixed order.
+
+    The swing ends with the touch-down (module docstring): the sole meets the ground at u_c
+    moving forward at v and down at w and is stopped by a triangular deceleration pulse of
+    peak (v, w) / tau at u_td, tau after contact, and zero at u_stop, tau later (tau =
+    ``impact_s``); then it rolls flat (elevation to 0, the IMU pivoting about the heel or toe)
+    in ``foot_flat_s``. The knots of the flight before u_c sit at fixed fractions of u_c, so
+    the flight keeps its shape for any swing time.
+    """
+    impact_s = _uniform(rng, gait.impact_s)
+    flat_s = _uniform(rng, gait.foot_flat_s)
+    u_stop = 1.0 - flat_s / swing_s                 # the sole has stopped; it rolls flat
+    u_td = u_stop - impact_s / swing_s              # peak of the touch-down deceleration
+    u_c = u_td - impact_s / swing_s                 # contact
+    u_roll = 1.0 - 0.45 * flat_s / swing_s          # the roll slows to a stop from here
+
+    stair_scale = min(1.0, 0.4 + 0.3 * n_steps)     # a step-to stride rolls the foot less
+
+    def at(fraction):
+        return fraction * u_c
+
+    def touchdown(y_end, speed_mps, scale_m):
+        """Knots at u_c, u_td, u_stop of a coordinate that meets the ground at speed_mps."""
+        if scale_m == 0.0:
+            return ((u_stop, y_end),)
+        v = speed_mps * swing_s / scale_m           # dy/du at contact
+        peak = -v / impact_s * swing_s              # d2y/du2 at u_td
+        return ((u_c, y_end - speed_mps * impact_s / scale_m, v, 0.0),
+                (u_td, y_end - speed_mps * impact_s / 6.0 / scale_m, 0.5 * v, peak),
+                (u_stop, y_end, 0.0, 0.0))
+
     if kind == 'turn':
         clearance = _uniform(rng, gait.turn_clearance_m)
         toe_off = _uniform(rng, gait.turn_toe_off_deg) * DEG
-        return _shape(progress=((0, 0), (1, 1)),
-                      z=((0, 0), (0.45, clearance), (1, 0)),
-                      elev=((0, 0), (0.35, toe_off), (0.8, 0.3 * abs(toe_off)), (1, 0)),
-                      yaw=((0, 0), (0.15, 0), (0.9, 1), (1, 1)))
-    yaw = ((0, 0), (0.1, 0), (0.9, 1), (1, 1))
-    if mode == 0:
+        sink = _uniform(rng, gait.turn_sink_mps)
+        progress = ((0, 0), (u_stop, 1))
+        z = ((0, 0), (at(0.45), clearance)) + touchdown(0.0, -sink, 1.0)
+        elev = ((0, 0), (at(0.4), toe_off), (u_stop, 0.3 * abs(toe_off)),
+                (u_roll, 0.1 * abs(toe_off)), (1, 0))
+        yaw = ((0, 0), (at(0.15), 0), (at(0.95), 1), (1, 1))
+        turns = (at(0.4),)
+    elif mode == 0:
         clearance = _uniform(rng, gait.level_clearance_m)
         toe_off = _uniform(rng, gait.level_toe_off_deg) * DEG
         landing = _uniform(rng, gait.level_landing_deg) * DEG
-        return _shape(progress=((0, 0), (0.05, 0), (0.95, 1), (1, 1)),
-                      z=((0, 0), (0.4, clearance), (1, 0)),
-                      elev=((0, 0), (0.35, toe_off), (0.8, landing), (1, 0)),
-                      yaw=yaw)
-    clearance = _uniform(rng, gait.stair_clearance_m)
-    if mode > 0:
-        # Up: lift above the target tread first, then move over it and set the foot down.
-        toe_off = _uniform(rng, gait.up_toe_off_deg) * DEG
+        forward = _uniform(rng, gait.level_touchdown_mps)
+        sink = _uniform(rng, gait.level_sink_mps)
+        # Half-way at 0.55 u_c keeps the peak foot speed at 4-5 m/s (2.5-3 x walking speed).
+        progress = ((0, 0), (at(0.06), 0), (at(0.55), 0.52)) + touchdown(1.0, forward, length_m)
+        z = ((0, 0), (at(0.45), clearance)) + touchdown(0.0, -sink, 1.0)
+        elev = ((0, 0), (at(0.42), toe_off), (u_stop, landing), (u_roll, 0.35 * landing), (1, 0))
+        yaw = ((0, 0), (at(0.1), 0), (at(0.95), 1), (1, 1))
+        turns = (at(0.42),)
+    elif mode > 0:
+        # Up: lift above the target tread first, then move over it; forefoot first.
+        clearance = _uniform(rng, gait.stair_clearance_m)
+        toe_off = _uniform(rng, gait.up_toe_off_deg) * DEG * stair_scale
+        mid = _uniform(rng, gait.up_mid_swing_deg) * DEG * stair_scale
         landing = _uniform(rng, gait.up_landing_deg) * DEG
-        return _shape(progress=((0, 0), (0.25, 0), (0.95, 1), (1, 1)),
-                      z=((0, 0), (0.6, dz + clearance), (1, dz)),
-                      elev=((0, 0), (0.25, toe_off), (0.6, 0.5 * landing), (0.85, landing),
-                            (1, 0)),
-                      yaw=yaw)
-    # Down: clear the nose of the current tread, move over the lower tread, toe lands first.
-    toe_off = _uniform(rng, gait.down_toe_off_deg) * DEG
-    mid = _uniform(rng, gait.down_mid_swing_deg) * DEG
-    landing = _uniform(rng, gait.down_landing_deg) * DEG
-    return _shape(progress=((0, 0), (0.05, 0), (0.7, 1), (1, 1)),
-                  z=((0, 0), (0.35, clearance), (1, dz)),
-                  elev=((0, 0), (0.25, toe_off), (0.55, mid), (0.85, landing), (1, 0)),
-                  yaw=yaw)
+        forward = _uniform(rng, gait.stair_touchdown_mps)
+        sink = _uniform(rng, gait.up_sink_mps)
+        progress = ((0, 0), (at(0.25), 0)) + touchdown(1.0, forward, length_m)
+        z = ((0, 0), (at(0.6), dz + clearance)) + touchdown(dz, -sink, 1.0)
+        elev = ((0, 0), (at(0.32), toe_off), (at(0.72), mid), (u_stop, landing),
+                (u_roll, 0.35 * landing), (1, 0))
+        yaw = ((0, 0), (at(0.1), 0), (at(0.95), 1), (1, 1))
+        turns = (at(0.32), at(0.72))
+    else:
+        # Down: clear the nose of the current tread, move over the lower one, toe first.
+        clearance = _uniform(rng, gait.stair_clearance_m)
+        toe_off = _uniform(rng, gait.down_toe_off_deg) * DEG * stair_scale
+        mid = _uniform(rng, gait.down_mid_swing_deg) * DEG * stair_scale
+        landing = _uniform(rng, gait.down_landing_deg) * DEG * stair_scale
+        forward = _uniform(rng, gait.stair_touchdown_mps)
+        sink = _uniform(rng, gait.down_sink_mps)
+        progress = ((0, 0), (at(0.06), 0), (at(0.72), 0.99))
+        progress += touchdown(1.0, forward, length_m)
+        z = ((0, 0), (at(0.35), clearance)) + touchdown(dz, -sink, 1.0)
+        elev = ((0, 0), (at(0.35), toe_off), (at(0.65), mid), (u_stop, landing),
+                (u_roll, 0.35 * landing), (1, 0))
+        yaw = ((0, 0), (at(0.1), 0), (at(0.95), 1), (1, 1))
+        turns = (at(0.35), at(0.65))
+    return {'progress_knots': _knots(*progress, (1, 1)), 'z_knots': _knots(*z, (1, dz)),
+            'elev_knots': _knots(*elev), 'yaw_knots': _knots(*yaw),
+            'roll_knots': _knots(*_roll_knots(turns + (u_stop,), roll_rate, swing_s), (1, 0))}
 
 
-def _shape(progress, z, elev, yaw) -> dict:
-    """Knot chains of a swing, keyed by their _StridePlan field names."""
-    return {'progress_knots': _knots(*progress), 'z_knots': _knots(*z),
-            'elev_knots': _knots(*elev), 'yaw_knots': _knots(*yaw)}
+def _roll_knots(turns: tuple, rate_rps: float, swing_s: float) -> tuple:
+    """
+    Roll knots that pass through zero where the pitch turns (its rate is zero there).
+
+    The roll (inversion / eversion) alternates in sign between the pitch's turning points,
+    peaking half-way with amplitude rate_rps * h (h: the time from the peak to the turning
+    points), so it crosses zero at each turning point at about rate_rps: the foot never stops
+    rotating in mid-swing. rate_rps < 0 starts with eversion.
+    """
+    knots = [(0.0, 0.0)]
+    previous = 0.0
+    for k, u in enumerate(turns):
+        half_s = 0.5 * (u - previous) * swing_s
+        knots += [(0.5 * (previous + u), rate_rps * half_s * (-1.0) ** k), (u, 0.0)]
+        previous = u
+    return tuple(knots)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -838,12 +1017,17 @@ def simulate_walk(segments, *, rng: np.random.Generator, rate_hz: float = 200.0,
     stamp_ns = EPOCH_NS + offset_ns
     t = offset_ns * 1e-9
 
-    pos, vel, acc, euler, euler_rate, stance = _trajectory(plans, t)
     C_fb = rpy_to_dcm(*(a * DEG for a in mounting_rpy_deg))
-    C_nf = euler_zyx_to_dcm(euler[:, 0], euler[:, 1], euler[:, 2])
-    gyr_f = body_rate_from_euler_zyx(euler[:, 0], euler[:, 1], *euler_rate.T)
-    gyr_true_b = gyr_f @ C_fb                        # rows: C_fb^T w_f
-    acc_true_b = specific_force_b(acc, C_nf, gravity_mps2) @ C_fb
+    pos, vel, euler, stance, acc_true_b, gyr_true_b = _true_motion(plans, t, C_fb, gravity_mps2)
+    if model.interval_mean:
+        moving = np.zeros(n, dtype=bool)
+        half_s = 0.5 / rate_hz
+        for plan in plans:
+            moving[np.searchsorted(t, plan.t_start_s - half_s, side='right'):np.searchsorted(
+                t, plan.t_start_s + plan.swing_s + half_s, side='left')] = True
+        acc_true_b[moving], gyr_true_b[moving] = interval_means(
+            lambda times: _true_motion(plans, times, C_fb, gravity_mps2)[4:], t[moving],
+            1.0 / rate_hz)
     q_nf = euler_zyx_to_quat(euler[:, 0], euler[:, 1], euler[:, 2])
     q_fb = euler_zyx_to_quat(*(np.array([a * DEG]) for a in mounting_rpy_deg))[0]
     quat_nb = _quat_multiply_batch(q_nf, q_fb)
@@ -854,6 +1038,56 @@ def simulate_walk(segments, *, rng: np.random.Generator, rate_hz: float = 200.0,
         stance=stance, strides=_stride_truth(plans, t, stamp_ns), rate_hz=float(rate_hz),
         imu=model, mounting_rpy_deg=mounting_rpy_deg, gravity_mps2=float(gravity_mps2),
         segments=segments)
+
+
+def interval_means(signals, t: np.ndarray, dt_s: float, sub_samples: int = 8,
+                   chunk: int = 32768) -> tuple:
+    """
+    Means of signals over the intervals [t_k - dt/2, t_k + dt/2] (midpoint rule).
+
+    y_k = 1/dt integral x(t) dt over the interval ~ 1/S sum_j x(t_k + (j + 1/2 - S/2) dt / S),
+    j = 0..S-1; the error is (dt / S)^2 / 24 x'' (second order), and S = 8 sub-samples resolve
+    a 20 ms touch-down pulse at 100 Hz to within 1 %.
+
+    Parameters
+    ----------
+    signals : callable
+        signals(times) -> tuple of (M, 3) arrays at the (M,) sorted times, s.
+    t : (K,) array
+        Sorted sample times, s.
+    dt_s : float
+        Sample interval, s.
+    sub_samples, chunk : int
+        S, and samples evaluated at once (memory).
+
+    Returns
+    -------
+    tuple of (K, 3) arrays, the interval means of each signal.
+
+    """
+    offsets = ((np.arange(sub_samples) + 0.5) / sub_samples - 0.5) * dt_s
+    parts = []
+    for start in range(0, len(t), chunk):
+        times = (t[start:start + chunk, None] + offsets).ravel()
+        parts.append([x.reshape(-1, sub_samples, 3).mean(axis=1) for x in signals(times)])
+    if not parts:
+        return tuple(np.zeros((0, 3)) for _ in signals(np.zeros(0)))
+    return tuple(np.concatenate(p) for p in zip(*parts))
+
+
+def _true_motion(plans, t: np.ndarray, C_fb: np.ndarray, gravity_mps2: float) -> tuple:
+    """
+    Truth and exact IMU signals at times t (s).
+
+    Returns pos, vel (N, 3) in n, the foot's Euler angles (N, 3), the stance flags (N,), and the
+    specific force and angular rate in b (N, 3): f_b = C_bf C_fn (a_n - g_n), w_b = C_bf w_f.
+    """
+    pos, vel, acc, euler, euler_rate, stance = _trajectory(plans, t)
+    C_nf = euler_zyx_to_dcm(euler[:, 0], euler[:, 1], euler[:, 2])
+    gyr_f = body_rate_from_euler_zyx(euler[:, 0], euler[:, 1], *euler_rate.T)
+    gyr_b = gyr_f @ C_fb                             # rows: C_fb^T w_f
+    acc_b = specific_force_b(acc, C_nf, gravity_mps2) @ C_fb
+    return pos, vel, euler, stance, acc_b, gyr_b
 
 
 def _trajectory(plans, t: np.ndarray):
@@ -876,29 +1110,36 @@ def _trajectory(plans, t: np.ndarray):
         b = int(np.searchsorted(t, t1, side='left'))
         c = int(np.searchsorted(t, plans[i + 1].t_start_s, side='left')) if i + 1 < len(
             plans) else n
-        u = (t[a:b] - plan.t_start_s) / plan.swing_s
-        stance[a:b] = u <= 0.0
-        duration = plan.swing_s
-        s, ds, dds = knot_profile(u, *plan.progress_knots, duration)
-        d_xy = plan.pos1_n[:2] - plan.pos0_n[:2]
-        pos[a:b, :2] = plan.pos0_n[:2] + s[:, None] * d_xy
-        vel[a:b, :2] = ds[:, None] * d_xy
-        acc[a:b, :2] = dds[:, None] * d_xy
-        z, dz, ddz = (a + b for a, b in zip(knot_profile(u, *plan.z_knots, duration),
-                                            knot_profile(u, *plan.lift_knots, duration)))
-        pos[a:b, 2] = plan.pos0_n[2] + z
-        vel[a:b, 2] = dz
-        acc[a:b, 2] = ddz
-        roll, droll, _ = knot_profile(u, (0.0, 0.5, 1.0), (0.0, plan.roll_peak, 0.0), duration)
-        elev, delev, _ = knot_profile(u, *plan.elev_knots, duration)
-        f, df, _ = knot_profile(u, *plan.yaw_knots, duration)
-        turn = plan.yaw1 - plan.yaw0
-        euler[a:b] = np.stack([roll, -elev, plan.yaw0 + f * turn], axis=-1)
-        euler_rate[a:b] = np.stack([droll, -delev, df * turn], axis=-1)
+        if b > a:   # the swing has samples (not so in most chunks of interval_means)
+            u = (t[a:b] - plan.t_start_s) / plan.swing_s
+            stance[a:b] = u <= 0.0
+            duration = plan.swing_s
+            s, ds, dds = _chain(u, plan.progress_knots, duration)
+            d_xy = plan.pos1_n[:2] - plan.pos0_n[:2]
+            pos[a:b, :2] = plan.pos0_n[:2] + s[:, None] * d_xy
+            vel[a:b, :2] = ds[:, None] * d_xy
+            acc[a:b, :2] = dds[:, None] * d_xy
+            z, dz, ddz = (a + b for a, b in zip(_chain(u, plan.z_knots, duration),
+                                                _chain(u, plan.lift_knots, duration)))
+            pos[a:b, 2] = plan.pos0_n[2] + z
+            vel[a:b, 2] = dz
+            acc[a:b, 2] = ddz
+            roll, droll, _ = _chain(u, plan.roll_knots, duration)
+            elev, delev, _ = _chain(u, plan.elev_knots, duration)
+            f, df, _ = _chain(u, plan.yaw_knots, duration)
+            turn = plan.yaw1 - plan.yaw0
+            euler[a:b] = np.stack([roll, -elev, plan.yaw0 + f * turn], axis=-1)
+            euler_rate[a:b] = np.stack([droll, -delev, df * turn], axis=-1)
         # Stance after the swing: the end pose, at rest, until the next swing.
         pos[b:c] = plan.pos1_n
         euler[b:c, 2] = plan.yaw1
     return pos, vel, acc, euler, euler_rate, stance
+
+
+def _chain(u: np.ndarray, knots: tuple, duration_s: float) -> tuple:
+    """Evaluate a knot chain (u, y, v, a) with knot_profile."""
+    knots_u, knots_y, knots_v, knots_a = knots
+    return knot_profile(u, knots_u, knots_y, duration_s, knots_v, knots_a)
 
 
 def _stride_truth(plans, t: np.ndarray, stamp_ns: np.ndarray) -> StrideTruth:

@@ -1,0 +1,811 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Parameters: the one place that maps named parameters to the core's dataclasses.
+
+A parameter's name is the path of its dataclass field: the navigator's fields at the top level
+(``rate_hz``, ``zupt.threshold``, ``ekf.zupt_sigma_mps``, ``gait.min_swing_s``, ...), the
+classifier's under ``elevation.`` (``ElevationParams``), the input gate's under ``gate.``
+(``GateParams``; its ``max_gap_s`` is the navigator's ``max_gap_s``), plus ``model_path`` and a
+few node-level parameters (topics, frames, rates). Defaults come from the dataclasses; the
+description, range and read-only flag of every parameter are written once, in ``_DOCS``
+below, and serve the ROS parameter descriptors, the validation of YAML files and of live
+changes, and ``config/params.yaml`` (``params_yaml_text`` renders it).
+
+Value types follow ROS 2 parameters exactly, so a file that passes here also loads in the
+nodes: ``bool``, ``int``, ``double`` (a whole number must be written ``400.0``: ROS refuses
+an integer for a double), ``string`` and ``double_array`` (``mounting_rpy_deg``; empty or
+absent means automatic).
+
+The YAML format is the ROS 2 parameter file: ``<node>: ros__parameters: {...}`` with nested
+maps joined by dots, ``/**`` (or ``**``) for every node, and namespaces as outer keys or in
+the node key (``/ns/imu_node``). Scalars are typed as rcl types them (``1.2e7`` is a double).
+Parameters rclpy handles itself (``use_sim_time``, ``qos_overrides.*``) are let through.
+
+Public API: ``ParamSpec``, ``PipelineParams``, ``IMU_NODE``, ``CLASSIFIER_NODE``,
+``node_specs``, ``all_specs``, ``validate_value``, ``is_ros_owned``,
+``navigator_params_from_dict``, ``elevation_params_from_dict``, ``gate_params_from_dict``,
+``load_params_yaml``, ``node_params``, ``load_pipeline_params``, ``config_search_paths``,
+``find_config_file``, ``model_file``, ``load_model``, ``params_yaml_text``.
+"""
+
+from dataclasses import dataclass, fields, is_dataclass, replace
+import difflib
+import math
+import numbers
+import os
+from pathlib import Path
+import re
+import sys
+import textwrap
+
+import yaml
+
+from .errors import InputError
+from .height import ElevationParams
+from .input_gate import GateParams
+from .navigator import NavigatorParams
+
+PACKAGE = 'anfis_elevation_ros'
+IMU_NODE = 'imu_node'
+CLASSIFIER_NODE = 'classifier_node'
+NODE_NAMES = (IMU_NODE, CLASSIFIER_NODE)
+DEFAULT_MODEL_FILE = 'anfis_default.json'
+PARAMS_FILE = 'params.yaml'
+ELEVATION_PREFIX = 'elevation.'
+GATE_PREFIX = 'gate.'
+SHARED_GATE_FIELDS = {'max_gap_s': 'max_gap_s'}   # GateParams field -> parameter it mirrors
+MAX_YAML_BYTES = 1_000_000
+ROS_OWNED_PARAMETERS = ('use_sim_time', 'start_type_description_service')
+"""Parameters every rclpy node declares itself; passed through untouched (as qos_overrides.*)."""
+
+KINDS = ('bool', 'int', 'double', 'string', 'double_array')
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """
+    One parameter: name, default, description, range and whether it may change live.
+
+    Attributes
+    ----------
+    name : str
+        Dotted parameter name, the dataclass field path.
+    default : bool, int, float, str or tuple of float
+        Default value, in the parameter's type (``kind``).
+    description : str
+        One sentence with the unit, for the ParameterDescriptor and the YAML comment.
+    min_value, max_value : float or None
+        Inclusive range of a number (of each element of an array); None for no bound.
+    read_only : bool
+        True when changing it on a running node makes no sense (set it at start).
+
+    """
+
+    name: str
+    default: object
+    description: str
+    min_value: float = None
+    max_value: float = None
+    read_only: bool = True
+
+    @property
+    def kind(self) -> str:
+        """Return the ROS 2 parameter type: bool, int, double, string or double_array."""
+        return _kind_of(self.default)
+
+
+@dataclass(frozen=True)
+class PipelineParams:
+    """
+    Everything the pipeline (input gate, navigator, classifier) needs.
+
+    Attributes
+    ----------
+    navigator : NavigatorParams
+        Detector, filter, gait segmentation and start-up.
+    elevation : ElevationParams
+        Step height, mode threshold, storey height, start floor and height.
+    gate : GateParams
+        Input checks.
+    model_path : str
+        ANFIS model file; '' is the packaged default (see ``load_model``).
+
+    """
+
+    navigator: NavigatorParams
+    elevation: ElevationParams
+    gate: GateParams
+    model_path: str = ''
+
+
+def _kind_of(value) -> str:
+    if isinstance(value, bool):
+        return 'bool'
+    if isinstance(value, int):
+        return 'int'
+    if isinstance(value, float):
+        return 'double'
+    if isinstance(value, str):
+        return 'string'
+    if isinstance(value, tuple):
+        return 'double_array'
+    raise TypeError(f'no parameter type for {value!r}')
+
+
+# -- the table: description, (min, max), read_only; defaults come from the dataclasses --------
+
+_READ_ONLY, _LIVE = True, False
+_DOCS = {
+    # NavigatorParams
+    'rate_hz': ('Nominal IMU sample rate, Hz; 0 estimates it from the first 16 stamps '
+                '(else 20 to 2000).', 0.0, 2000.0, _READ_ONLY),
+    'gravity_mps2': ('Local gravity magnitude, m/s^2.', 9.7, 9.9, _READ_ONLY),
+    'init_stance_s': ('Stance needed before navigation starts, s.', 0.02, 10.0, _READ_ONLY),
+    'still_gyr_rps': ('The start-up stance gives the gyro bias only if no rate in it exceeds '
+                      'this, rad/s.', 0.0, 1.0, _READ_ONLY),
+    'max_gap_s': ('An interval between samples longer than this is a gap: the gait cycle it '
+                  'falls in is invalid, s.', 0.005, 1.0, _READ_ONLY),
+    'mounting_rpy_deg': ('IMU mounting on the foot as roll, pitch, yaw, deg (as simulate '
+                         '--mounting-rpy-deg; 180 0 0 is z down); empty = automatic (forward '
+                         'axis from the first strides).', -360.0, 360.0, _READ_ONLY),
+    # ZuptParams
+    'zupt.window_s': ('SHOE window length, s (at least 3 samples).', 0.005, 0.5, _READ_ONLY),
+    'zupt.threshold': ('SHOE threshold gamma_0 (dimensionless): fixed gamma, or gamma at the '
+                       'reference intensity when adaptive.', 1.0, 1e12, _READ_ONLY),
+    'zupt.sigma_acc_mps2': ('Accelerometer noise scale sigma_a of eq. (4), m/s^2.', 1e-5, 10.0,
+                            _READ_ONLY),
+    'zupt.sigma_gyr_rps': ('Gyroscope noise scale sigma_w of eq. (4), rad/s.', 1e-6, 1.0,
+                           _READ_ONLY),
+    'zupt.adaptive': ('Scale the threshold with the gait intensity.', None, None, _READ_ONLY),
+    'zupt.ref_peak_gyr_rps': ('Intensity m_0 at which gamma = gamma_0, rad/s.', 0.5, 30.0,
+                              _READ_ONLY),
+    'zupt.intensity_exponent': ('Exponent p of gamma = gamma_0 (m / m_0)^p.', 0.0, 10.0,
+                                _READ_ONLY),
+    'zupt.min_threshold': ('Lower bound of the adaptive threshold.', 1.0, 1e13, _READ_ONLY),
+    'zupt.max_threshold': ('Upper bound of the adaptive threshold.', 1.0, 1e13, _READ_ONLY),
+    'zupt.min_stance_s': ('A stance counts only after the statistic stayed below the threshold '
+                          'this long, s.', 0.0, 0.5, _READ_ONLY),
+    'zupt.intensity_block_s': ('Block over which the peak angular rate is taken, s.', 0.2, 10.0,
+                               _READ_ONLY),
+    'zupt.intensity_blocks': ('Blocks whose median peak rate is the gait intensity.', 1, 60,
+                              _READ_ONLY),
+    # EkfParams
+    'ekf.acc_noise_mps2_sqrt_hz': ('Accelerometer white-noise density, m/s^2/sqrt(Hz).', 1e-6,
+                                   10.0, _READ_ONLY),
+    'ekf.gyr_noise_rps_sqrt_hz': ('Gyroscope white-noise density, rad/s/sqrt(Hz).', 1e-7, 1.0,
+                                  _READ_ONLY),
+    'ekf.acc_bias_walk_mps3_sqrt_hz': ('Accelerometer bias random-walk density, '
+                                       'm/s^3/sqrt(Hz).', 1e-9, 1.0, _READ_ONLY),
+    'ekf.gyr_bias_walk_rps2_sqrt_hz': ('Gyroscope bias random-walk density, rad/s^2/sqrt(Hz).',
+                                       1e-10, 1.0, _READ_ONLY),
+    'ekf.zupt_sigma_mps': ('Standard deviation of the zero-velocity pseudo-measurement, m/s.',
+                           1e-4, 1.0, _READ_ONLY),
+    'ekf.init_att_sigma_rad': ('Initial roll and pitch uncertainty, rad.', 1e-5, 1.0,
+                               _READ_ONLY),
+    'ekf.init_yaw_sigma_rad': ('Initial heading uncertainty, rad.', 1e-6, 1.0, _READ_ONLY),
+    'ekf.init_acc_bias_sigma_mps2': ('Initial accelerometer bias uncertainty, m/s^2.', 1e-5,
+                                     5.0, _READ_ONLY),
+    'ekf.init_gyr_bias_sigma_rps': ('Initial gyroscope bias uncertainty, rad/s.', 1e-6, 1.0,
+                                    _READ_ONLY),
+    # GaitParams
+    'gait.min_swing_s': ('Shorter swings make no gait cycle, s.', 0.02, 10.0, _READ_ONLY),
+    'gait.max_swing_s': ('Longer swings make an invalid gait cycle (bounds the swing buffer), '
+                         's.', 0.02, 10.0, _READ_ONLY),
+    'gait.min_stride_m': ('Shorter horizontal strides say nothing of the forward axis, m.', 0.05,
+                          2.0, _READ_ONLY),
+    'gait.mounting_strides': ('Strides averaged by the automatic mounting mode.', 1, 100,
+                              _READ_ONLY),
+    # GateParams
+    'gate.acc_range_mps2': ('Accelerometer full scale, m/s^2 (16 g); components at it are '
+                            'saturated.', 19.6133, 1000.0, _LIVE),
+    'gate.gyr_range_rps': ('Gyroscope full scale, rad/s (2000 deg/s); components at it are '
+                           'saturated.', 1.0, 40.0, _LIVE),
+    'gate.reject_saturated': ('Refuse saturated samples (false: accept them and count them).',
+                              None, None, _LIVE),
+    'gate.frame_id': ("Expected header.frame_id of the Imu messages; others are refused ('' "
+                      'accepts any).', None, None, _LIVE),
+    'gate.max_future_jump_s': ('A stamp further ahead of the last one is refused until 3 '
+                               'samples confirm it, s.', 0.005, 3600.0, _LIVE),
+    # ElevationParams
+    'elevation.step_height_m': ('Stair step height K of eq. (14), m.', 0.10, 0.25, _LIVE),
+    'elevation.mode_threshold': ('Stair-mode threshold sigma_th of eq. (13).', 0.0, 1.0, _LIVE),
+    'elevation.floor_height_m': ('Storey height H, m.', 2.0, 20.0, _LIVE),
+    'elevation.start_floor': ('Floor of the start point (changing it shifts the floor index).',
+                              -100, 1000, _LIVE),
+    'elevation.start_height_m': ('Height of the start point above its floor reference, m.',
+                                 -1000.0, 1000.0, _READ_ONLY),
+}
+
+_MODEL_PATH = ParamSpec('model_path', '', "ANFIS model JSON file; '' is the packaged "
+                        'config/anfis_default.json.')
+_IMU_NODE_ONLY = (
+    ParamSpec('imu_topic', '/imu/data', 'sensor_msgs/Imu topic to subscribe to.'),
+    ParamSpec('imu_qos_depth', 200, 'Depth of the Imu subscription queue, messages (bursts of '
+              'a 400 Hz sensor).', 1, 10000),
+    ParamSpec('odom_frame_id', 'odom', 'Frame of the published foot track (REP 105).'),
+    ParamSpec('track_rate_hz', 10.0, 'Rate of the foot_odom track, Hz; 0 publishes none.', 0.0,
+              100.0),
+    ParamSpec('diagnostics_rate_hz', 1.0, 'Rate of the /diagnostics status, Hz.', 0.1, 10.0),
+)
+_CLASSIFIER_NODE_ONLY = (
+    _MODEL_PATH,
+    ParamSpec('map_frame_id', 'map', 'Frame of the published elevation points.'),
+)
+
+
+def _param_value(value):
+    """Return a dataclass field value as a parameter value (None mounting -> empty array)."""
+    if value is None:
+        return ()
+    if isinstance(value, (list, tuple)):
+        return tuple(float(v) for v in value)
+    return value
+
+
+def _dataclass_specs(instance, prefix: str, skip=()):
+    specs = []
+    for f in fields(instance):
+        value = getattr(instance, f.name)
+        if f.name in skip:
+            continue
+        name = prefix + f.name
+        if is_dataclass(value):
+            specs.extend(_dataclass_specs(value, name + '.'))
+            continue
+        if name not in _DOCS:
+            raise RuntimeError(f'parameter {name} has no entry in core/params.py _DOCS')
+        description, low, high, read_only = _DOCS[name]
+        specs.append(ParamSpec(name, _param_value(value), description, low, high, read_only))
+    return specs
+
+
+_NAVIGATOR_SPECS = tuple(_dataclass_specs(NavigatorParams(), ''))
+_GATE_SPECS = tuple(_dataclass_specs(GateParams(), GATE_PREFIX, skip=SHARED_GATE_FIELDS))
+_ELEVATION_SPECS = tuple(_dataclass_specs(ElevationParams(), ELEVATION_PREFIX))
+_NODE_SPECS = {
+    IMU_NODE: {s.name: s for s in _NAVIGATOR_SPECS + _GATE_SPECS + _IMU_NODE_ONLY},
+    CLASSIFIER_NODE: {s.name: s for s in _ELEVATION_SPECS + _CLASSIFIER_NODE_ONLY},
+}
+_ALL_SPECS = {**_NODE_SPECS[IMU_NODE], **_NODE_SPECS[CLASSIFIER_NODE]}
+if set(_DOCS) - set(_ALL_SPECS):
+    raise RuntimeError(f'_DOCS names no field: {sorted(set(_DOCS) - set(_ALL_SPECS))}')
+
+
+def node_specs(node_name: str) -> dict:
+    """Return {name: ParamSpec} of the parameters a node declares (IMU_NODE, CLASSIFIER_NODE)."""
+    try:
+        return dict(_NODE_SPECS[node_name])
+    except KeyError:
+        raise InputError(f'unknown node {node_name!r}; the nodes are {", ".join(NODE_NAMES)}') \
+            from None
+
+
+def all_specs() -> dict:
+    """Return {name: ParamSpec} of every parameter of both nodes."""
+    return dict(_ALL_SPECS)
+
+
+# -- validation -------------------------------------------------------------------------------
+
+def _unknown(name: str, known, where: str) -> InputError:
+    close = difflib.get_close_matches(name, list(known), n=1)
+    hint = f'; did you mean {close[0]!r}?' if close else '; see config/params.yaml for the list'
+    return InputError(f'unknown parameter {name!r}{where}{hint}')
+
+
+def _is_real(value) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, numbers.Integral))
+
+
+def _range_text(spec: ParamSpec) -> str:
+    return f'[{spec.min_value:g}, {spec.max_value:g}]'
+
+
+def validate_value(spec: ParamSpec, value):
+    """
+    Check a value against its parameter's type and range; return it normalised.
+
+    Integers are not accepted for a double (ROS 2 refuses them too: write 400.0); a
+    double_array accepts a list, tuple or array of floats, and None or an empty one (returned
+    as ``()``).
+
+    Parameters
+    ----------
+    spec : ParamSpec
+        The parameter.
+    value : object
+        The value as read from YAML or from a ROS parameter.
+
+    Returns
+    -------
+    The value as a bool, int, float, str or tuple of float.
+
+    Raises
+    ------
+    InputError : naming the parameter, the value and what is expected.
+
+    """
+    kind = spec.kind
+    if kind == 'bool':
+        if not isinstance(value, bool):
+            raise InputError(f'{spec.name} = {value!r} must be true or false')
+        return value
+    if kind == 'string':
+        if not isinstance(value, str):
+            raise InputError(f'{spec.name} = {value!r} must be a string (quote it)')
+        return value
+    if kind == 'double_array':
+        return _validate_array(spec, value)
+    if kind == 'int':
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise InputError(f'{spec.name} = {value!r} must be an integer')
+        value = int(value)
+    else:
+        if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+            raise InputError(f'{spec.name} = {value!r} is an integer but must be a floating-point '
+                             f'number: write {value}.0 (ROS 2 parameters are typed)')
+        if not _is_real(value):
+            raise InputError(f'{spec.name} = {value!r} must be a floating-point number')
+        value = float(value)
+        if not math.isfinite(value):
+            raise InputError(f'{spec.name} = {value!r} must be finite')
+    if spec.min_value is not None and not spec.min_value <= value <= spec.max_value:
+        raise InputError(f'{spec.name} = {value!r} is outside {_range_text(spec)}')
+    return value
+
+
+def _validate_array(spec: ParamSpec, value):
+    if value is None:
+        return ()
+    if isinstance(value, (str, bytes)) or not hasattr(value, '__len__'):
+        raise InputError(f'{spec.name} = {value!r} must be a list of floating-point numbers '
+                         '([] for automatic)')
+    items = list(value)
+    if any(isinstance(v, numbers.Integral) for v in items):
+        fixed = ', '.join(f'{float(v)!r}' for v in items if isinstance(v, numbers.Real))
+        raise InputError(f'{spec.name} = {items!r} holds integers; write floating-point numbers, '
+                         f'e.g. [{fixed}] (ROS 2 parameters are typed)')
+    if not all(_is_real(v) and math.isfinite(v) for v in items):
+        raise InputError(f'{spec.name} = {items!r} must hold finite floating-point numbers')
+    if spec.name == 'mounting_rpy_deg' and len(items) not in (0, 3):
+        raise InputError(f'mounting_rpy_deg = {items!r} must be 3 angles (roll, pitch, yaw, '
+                         'deg) or [] for automatic mounting')
+    if spec.min_value is not None and not all(spec.min_value <= v <= spec.max_value
+                                              for v in items):
+        raise InputError(f'{spec.name} = {items!r}: every element must be in '
+                         f'{_range_text(spec)}')
+    return tuple(float(v) for v in items)
+
+
+def is_ros_owned(name: str) -> bool:
+    """Tell whether rclpy itself handles a parameter (use_sim_time, qos_overrides.*, ...)."""
+    return name in ROS_OWNED_PARAMETERS or name.startswith('qos_overrides.')
+
+
+def _validated(flat: dict, specs: dict, where: str = '') -> dict:
+    """Check names against every known parameter and values against their specs."""
+    values = {}
+    for name, value in flat.items():
+        if is_ros_owned(name):
+            continue
+        if name not in _ALL_SPECS:
+            raise _unknown(name, _ALL_SPECS, where)
+        if name in specs:
+            values[name] = validate_value(specs[name], value)
+    return values
+
+
+def _build(group: str, make):
+    """Call make(); turn a dataclass's ValueError into an InputError naming the group."""
+    try:
+        return make()
+    except ValueError as err:          # InputError is a ValueError too
+        raise InputError(f'{group} parameters: {err}') from None
+
+
+def _fill(instance, values: dict, prefix: str):
+    """Return the dataclass with the fields named in values (prefix-relative paths) replaced."""
+    changes = {}
+    for f in fields(instance):
+        current = getattr(instance, f.name)
+        name = prefix + f.name
+        if is_dataclass(current):
+            changes[f.name] = _fill(current, values, name + '.')
+        elif name in values:
+            value = values[name]
+            if f.name == 'mounting_rpy_deg':
+                value = value or None
+            changes[f.name] = value
+    return replace(instance, **changes)
+
+
+def navigator_params_from_dict(flat: dict) -> NavigatorParams:
+    """
+    Build NavigatorParams from flat parameters (missing names keep their defaults).
+
+    Parameters
+    ----------
+    flat : dict
+        {dotted name: value}; names of other groups (gate., elevation., node-level) are
+        ignored, unknown names are refused.
+
+    Raises
+    ------
+    InputError : an unknown name, a wrong type, a value out of range, or inconsistent values
+        (e.g. gait.min_swing_s >= gait.max_swing_s).
+
+    """
+    specs = {s.name: s for s in _NAVIGATOR_SPECS}
+    values = _validated(flat, specs)
+    # _fill rebuilds every nested dataclass, so their __post_init__ checks (min_threshold <=
+    # max_threshold, ...) run on the new values.
+    return _build('navigator', lambda: _fill(NavigatorParams(), values, ''))
+
+
+def elevation_params_from_dict(flat: dict) -> ElevationParams:
+    """
+    Build ElevationParams from flat ``elevation.*`` parameters (others are ignored).
+
+    Parameters
+    ----------
+    flat : dict
+        {dotted name: value}.
+
+    Raises
+    ------
+    InputError : an unknown name, a wrong type, a value out of range.
+
+    """
+    specs = {s.name: s for s in _ELEVATION_SPECS}
+    values = _validated(flat, specs)
+    return _build('elevation', lambda: _fill(ElevationParams(), values, ELEVATION_PREFIX))
+
+
+def gate_params_from_dict(flat: dict) -> GateParams:
+    """
+    Build GateParams from flat ``gate.*`` parameters and the navigator's ``max_gap_s``.
+
+    Parameters
+    ----------
+    flat : dict
+        {dotted name: value}.
+
+    Raises
+    ------
+    InputError : an unknown name, a wrong type, a value out of range.
+
+    """
+    specs = {s.name: s for s in _GATE_SPECS}
+    specs['max_gap_s'] = _ALL_SPECS['max_gap_s']
+    values = _validated(flat, specs)
+    values.update({GATE_PREFIX + field: values[name]
+                   for field, name in SHARED_GATE_FIELDS.items() if name in values})
+    return _build('gate', lambda: _fill(GateParams(), values, GATE_PREFIX))
+
+
+# -- YAML -------------------------------------------------------------------------------------
+
+class _RosYamlLoader(yaml.SafeLoader):
+    """SafeLoader that types plain scalars as rcl does: 1.2e7 and 1e-5 are doubles."""
+
+
+_FLOAT_RE = re.compile(r'^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)(?:[eE][-+]?[0-9]+)?$'
+                       r'|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$')
+_RosYamlLoader.add_implicit_resolver('tag:yaml.org,2002:float', _FLOAT_RE,
+                                     list('-+0123456789.'))
+# Keep integers integers: the int resolver must win for plain digits.
+_RosYamlLoader.yaml_implicit_resolvers = {
+    key: sorted(resolvers, key=lambda r: r[0] != 'tag:yaml.org,2002:int')
+    for key, resolvers in _RosYamlLoader.yaml_implicit_resolvers.items()}
+
+
+def _flatten(tree: dict, prefix: str, out: dict, where: str):
+    for key, value in tree.items():
+        if not isinstance(key, str):
+            raise InputError(f'{where}: parameter name {key!r} is not a string')
+        name = prefix + key
+        if isinstance(value, dict):
+            _flatten(value, name + '.', out, where)
+        else:
+            out[name] = value
+
+
+def _node_entries(tree: dict, namespace: str, out: dict, where: str):
+    for key, value in tree.items():
+        if not isinstance(key, str) or not isinstance(value, dict):
+            raise InputError(f'{where}: expected "<node name>: ros__parameters: {{...}}" at the '
+                             f'top, got {key!r}: {type(value).__name__}')
+        node_key = f'{namespace}/{key.strip("/")}' if namespace else key.strip('/')
+        if 'ros__parameters' in value:
+            extra = sorted(set(value) - {'ros__parameters'})
+            if extra:
+                raise InputError(f'{where}: node {key!r} has {extra} beside ros__parameters')
+            params = value['ros__parameters']
+            if params is None:
+                params = {}
+            if not isinstance(params, dict):
+                raise InputError(f'{where}: {key}.ros__parameters must be a map of parameters')
+            flat = {}
+            _flatten(params, '', flat, where)
+            out[node_key] = flat
+        else:
+            _node_entries(value, node_key, out, where)
+
+
+def _is_wildcard(node_key: str) -> bool:
+    return '*' in node_key
+
+
+def _key_matches(node_key: str, node_name: str) -> bool:
+    """Tell whether a YAML node key (no leading /) applies to a node in the root namespace."""
+    pattern = ''.join('.*' if part == '**' else '[^/]*' if part == '*' else re.escape(part)
+                      for part in re.split(r'(\*\*|\*)', node_key))
+    return re.fullmatch(pattern, node_name) is not None or node_key == node_name
+
+
+def _nodes_of_key(node_key: str):
+    """Nodes a YAML key applies to: any of ours for a wildcard, else by the base name."""
+    if _is_wildcard(node_key):
+        return [n for n in NODE_NAMES if _key_matches(node_key.rsplit('/', 1)[-1], n)]
+    base = node_key.rsplit('/', 1)[-1]
+    return [base] if base in NODE_NAMES else []
+
+
+def load_params_yaml(path) -> dict:
+    """
+    Read a ROS 2 parameter YAML file and validate it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    {node key: {dotted name: value}} as written in the file (keys without a leading '/',
+    e.g. 'imu_node', '**', 'ns/classifier_node'), values validated and normalised.
+
+    Raises
+    ------
+    InputError : missing or unreadable file, invalid YAML, not the ROS 2 parameter layout, a
+        node other than imu_node / classifier_node, an unknown parameter, a wrong type, a value
+        out of range, inconsistent values.
+
+    """
+    where = str(path)
+    try:
+        with open(path, 'rb') as stream:
+            data = stream.read(MAX_YAML_BYTES + 1)
+    except OSError as err:
+        raise InputError(f'cannot read parameter file {where!r}: {err.strerror or err}') \
+            from None
+    if len(data) > MAX_YAML_BYTES:
+        raise InputError(f'parameter file {where!r} is larger than {MAX_YAML_BYTES} bytes')
+    try:
+        tree = yaml.load(data.decode('utf-8'), Loader=_RosYamlLoader)   # noqa: S506 safe loader
+    except (yaml.YAMLError, UnicodeDecodeError) as err:
+        raise InputError(f'{where} is not valid YAML: {err}') from None
+    if tree is None:
+        return {}
+    if not isinstance(tree, dict):
+        raise InputError(f'{where}: expected "<node name>: ros__parameters: {{...}}", got a '
+                         f'{type(tree).__name__}')
+    entries = {}
+    _node_entries(tree, '', entries, where)
+    result = {}
+    for node_key, flat in entries.items():
+        nodes = _nodes_of_key(node_key)
+        if not nodes:
+            raise InputError(f'{where}: unknown node {node_key!r}; the nodes are '
+                             f'{", ".join(NODE_NAMES)} (or /** for both)')
+        specs = {}
+        for node in nodes:
+            specs.update(_NODE_SPECS[node])
+        where_node = f' for node {node_key!r} in {where}'
+        for name in flat:
+            if name not in specs and not is_ros_owned(name):
+                raise _unknown(name, specs, where_node)
+        try:
+            result[node_key] = _validated(flat, specs)
+        except InputError as err:
+            raise InputError(f'{where}, node {node_key!r}: {err}') from None
+    for node in NODE_NAMES:
+        try:
+            _check_node_consistent(node, node_params(result, node))
+        except InputError as err:
+            raise InputError(f'{where}: {err}') from None
+    return result
+
+
+def node_params(per_node: dict, node_name: str) -> dict:
+    """
+    Merge the entries of ``load_params_yaml`` that apply to a node in the root namespace.
+
+    Wildcard entries (``/**``) first, then the node's own entry (which wins), as rcl does.
+
+    Returns
+    -------
+    {dotted name: value} of that node's parameters given in the file.
+
+    """
+    specs = node_specs(node_name)
+    merged = {}
+    for wildcard in (True, False):
+        for node_key, flat in per_node.items():
+            if _is_wildcard(node_key) == wildcard and _key_matches(node_key, node_name):
+                merged.update({k: v for k, v in flat.items() if k in specs})
+    return merged
+
+
+def _check_node_consistent(node_name: str, flat: dict):
+    if node_name == IMU_NODE:
+        navigator_params_from_dict(flat)
+        gate_params_from_dict(flat)
+    else:
+        elevation_params_from_dict(flat)
+
+
+def load_pipeline_params(path=None) -> PipelineParams:
+    """
+    Pipeline parameters from a parameter YAML (both nodes' sections), or the defaults.
+
+    Parameters
+    ----------
+    path : str, Path or None
+        ROS 2 parameter YAML as the nodes read; None gives the defaults.
+
+    """
+    per_node = load_params_yaml(path) if path is not None else {}
+    imu = node_params(per_node, IMU_NODE)
+    classifier = node_params(per_node, CLASSIFIER_NODE)
+    return PipelineParams(navigator=navigator_params_from_dict(imu),
+                          elevation=elevation_params_from_dict(classifier),
+                          gate=gate_params_from_dict(imu),
+                          model_path=classifier.get('model_path', ''))
+
+
+# -- files shipped with the package -----------------------------------------------------------
+
+def config_search_paths(name: str) -> list:
+    """
+    Where a packaged config file is looked for, in order.
+
+    1. ``<prefix>/share/anfis_elevation_ros/config/<name>`` for every prefix of
+       AMENT_PREFIX_PATH holding the package's ament index marker (what
+       ``ament_index_python.get_package_share_directory`` finds; a colcon install);
+    2. ``sys.prefix/share/anfis_elevation_ros/config/<name>`` (a pip install);
+    3. the source tree's ``config/<name>`` (a checkout or an editable install).
+    """
+    candidates = []
+    for prefix in os.environ.get('AMENT_PREFIX_PATH', '').split(os.pathsep):
+        if prefix and (Path(prefix) / 'share' / 'ament_index' / 'resource_index' / 'packages'
+                       / PACKAGE).is_file():
+            candidates.append(Path(prefix) / 'share' / PACKAGE / 'config' / name)
+    candidates.append(Path(sys.prefix) / 'share' / PACKAGE / 'config' / name)
+    candidates.append(Path(__file__).resolve().parents[2] / 'config' / name)
+    return candidates
+
+
+def find_config_file(name: str) -> Path:
+    """
+    Return the first existing packaged config file ``name`` (see ``config_search_paths``).
+
+    Raises
+    ------
+    InputError : the file is in none of the places, listing them.
+
+    """
+    candidates = config_search_paths(name)
+    for candidate in candidates:
+        if candidate.is_file():
+            return candidate
+    places = ', '.join(str(c) for c in candidates)
+    raise InputError(f'packaged file config/{name} not found (looked in {places}); reinstall '
+                     'the package or pass an explicit path')
+
+
+def model_file(model_path: str = '') -> Path:
+    """Return the model file a ``model_path`` parameter names ('' = the packaged default)."""
+    return Path(model_path).expanduser() if model_path else find_config_file(DEFAULT_MODEL_FILE)
+
+
+def load_model(model_path: str = ''):
+    """
+    Load the ANFIS stair-mode model a ``model_path`` parameter names.
+
+    Parameters
+    ----------
+    model_path : str
+        Path of a model JSON file; '' loads the packaged ``config/anfis_default.json``.
+
+    Returns
+    -------
+    Anfis with 5 inputs (the gait features).
+
+    Raises
+    ------
+    InputError : no such file, unreadable or corrupt model, or a model with another number of
+        inputs.
+
+    """
+    from .anfis import Anfis
+    from .gait import FEATURE_NAMES
+
+    path = model_file(model_path)
+    model = Anfis.load(path)
+    if model.n_inputs != len(FEATURE_NAMES):
+        raise InputError(f'{path}: the model has {model.n_inputs} inputs; the stair-mode '
+                         f'classifier needs {len(FEATURE_NAMES)} ({", ".join(FEATURE_NAMES)})')
+    return model
+
+
+# -- config/params.yaml -----------------------------------------------------------------------
+
+def _yaml_scalar(value) -> str:
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    if isinstance(value, str):
+        plain = value and yaml.load(value, Loader=_RosYamlLoader) == value  # noqa: S506
+        return value if plain else "'" + value.replace("'", "''") + "'"
+    if isinstance(value, tuple):
+        return '[' + ', '.join(_yaml_scalar(v) for v in value) + ']'
+    if isinstance(value, float):
+        text = repr(value)
+        return text if ('.' in text or 'e' in text or 'n' in text) else text + '.0'
+    return repr(value)
+
+
+def _comment(spec: ParamSpec) -> str:
+    extra = [f'Range {_range_text(spec)}.'] if spec.min_value is not None else []
+    extra.append('Set at start.' if spec.read_only else 'Can change live.')
+    return ' '.join([spec.description] + extra)
+
+
+def params_yaml_text() -> str:
+    """
+    Render config/params.yaml: every parameter of both nodes, its default and a comment.
+
+    Nested names are written as nested maps, as ROS 2 parameter files usually are.
+    """
+    lines = ['# Parameters of the anfis_elevation_ros nodes, with their defaults.',
+             '# Generated from anfis_elevation_ros/core/params.py (params_yaml_text); the',
+             '# descriptions and ranges there are the ones the nodes declare and enforce.',
+             '# Doubles need a decimal point (400.0): ROS 2 parameters are typed.']
+    for node in NODE_NAMES:
+        lines += ['', f'{node}:', '  ros__parameters:']
+        opened = []
+        for spec in _NODE_SPECS[node].values():
+            parts = spec.name.split('.')
+            groups, leaf = parts[:-1], parts[-1]
+            common = 0
+            while common < min(len(opened), len(groups)) and opened[common] == groups[common]:
+                common += 1
+            opened = opened[:common]
+            for group in groups[common:]:
+                lines.append('    ' + '  ' * len(opened) + f'{group}:')
+                opened.append(group)
+            indent = '    ' + '  ' * len(opened)
+            lines += textwrap.wrap(_comment(spec), width=99, initial_indent=indent + '# ',
+                                   subsequent_indent=indent + '#   ')
+            lines.append(f'{indent}{leaf}: {_yaml_scalar(spec.default)}')
+    return '\n'.join(lines) + '\n'
+
+
+__all__ = ['CLASSIFIER_NODE', 'IMU_NODE', 'ParamSpec', 'PipelineParams', 'all_specs',
+           'config_search_paths', 'elevation_params_from_dict', 'find_config_file',
+           'gate_params_from_dict', 'is_ros_owned', 'load_model', 'load_params_yaml',
+           'load_pipeline_params', 'model_file', 'navigator_params_from_dict', 'node_params',
+           'node_specs', 'params_yaml_text', 'validate_value']

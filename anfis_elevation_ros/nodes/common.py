@@ -1,0 +1,467 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+What both nodes share: QoS profiles, parameter declaration, message conversions.
+
+QoS (a decision per topic):
+
+- ``imu_qos(depth)``: ``qos_profile_sensor_data`` (best effort, volatile) with a deep queue, so
+  that a burst of a 400 Hz IMU waits instead of being dropped while a callback runs.
+- ``CYCLE_QOS``: reliable, volatile, depth 100, for ``gait_cycle``: an event stream, every
+  message counts, and a late subscriber must not get an old cycle classified twice.
+- ``LATEST_QOS``: reliable, transient local, depth 1, for "latest state" topics (``elevation``,
+  ``stair_mode``, ``floor``, ``foot_odom``): a late subscriber gets the current value at once.
+- ``DIAGNOSTICS_QOS``: reliable, volatile, depth 10 (what diagnostic_aggregator expects).
+
+The gait-cycle message (topic ``gait_cycle``) is a ``sensor_msgs/msg/PointCloud2`` holding ONE
+point: a point cloud is stamped, has a frame, and names its fields, so the message documents
+itself and rviz or ``ros2 topic echo`` show it. The point is the foot at the sample that closes
+the cycle, in the odometry frame; its fields, all FLOAT64 (``CYCLE_FIELDS``):
+
+=====  ====================  ==============================================================
+ off   field                 meaning
+=====  ====================  ==============================================================
+   0   ``x``                 EKF position x (east) at the closing stance sample, m
+   8   ``y``                 EKF position y (north), m
+  16   ``z``                 EKF height (raw INS height, not quantised), m
+  24   ``valid``             1.0 for a valid cycle, 0.0 for one with a gap or an overlong swing
+  32   ``mean_height_m``     feature eq. (8), m
+  40   ``std_height_m``      feature eq. (9), m
+  48   ``height_change_m``   feature eq. (10), m
+  56   ``max_abs_height_m``  feature eq. (11), m
+  64   ``max_pitch_rad``     feature eq. (12), rad
+=====  ====================  ==============================================================
+
+``header.stamp`` is the stamp of the IMU sample that closed the cycle; ``header.frame_id`` the
+odometry frame; height = width = 1, point_step = row_step = 72, little endian, ``is_dense``
+false when a value is not finite.
+"""
+
+from dataclasses import dataclass
+import math
+import struct
+
+from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+import numpy as np
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rcl_interfaces.msg import SetParametersResult
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+from sensor_msgs.msg import Imu, PointCloud2, PointField
+
+from ..core.errors import InputError
+from ..core.gait import FEATURE_NAMES
+from ..core.params import is_ros_owned, node_specs, validate_value
+
+CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + FEATURE_NAMES
+_CYCLE_STRUCT = struct.Struct('<' + 'd' * len(CYCLE_FIELDS))
+_CDR_LE = b'\x00\x01'                    # encapsulation: plain CDR, little endian
+_CDR_HEADER = struct.Struct('<iII')        # stamp sec, nanosec, frame_id length
+_IMU_DOUBLES_SIZE = 37 * 8
+_VECTOR3 = struct.Struct('<3d')
+_GYR_OFFSET = 13 * 8                       # after orientation (4) and its covariance (9)
+_ACC_OFFSET = 25 * 8                       # after angular_velocity (3) and its covariance (9)
+
+CYCLE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                       reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.VOLATILE)
+LATEST_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                        reliability=ReliabilityPolicy.RELIABLE,
+                        durability=DurabilityPolicy.TRANSIENT_LOCAL)
+DIAGNOSTICS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                             reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.VOLATILE)
+
+EXECUTORS = ('events', 'single')
+
+_ROS_TYPES = {'bool': Parameter.Type.BOOL, 'int': Parameter.Type.INTEGER,
+              'double': Parameter.Type.DOUBLE, 'string': Parameter.Type.STRING,
+              'double_array': Parameter.Type.DOUBLE_ARRAY}
+
+
+def imu_qos(depth: int) -> QoSProfile:
+    """``qos_profile_sensor_data`` (best effort, volatile, keep last) with the given depth."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth,
+                      reliability=ReliabilityPolicy.BEST_EFFORT,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+class Spinner:
+    """
+    The executor of the nodes: rclpy's EventsExecutor ('events') or SingleThreadedExecutor.
+
+    The events executor costs about a third of the CPU per message of the
+    SingleThreadedExecutor at 400 Hz (test/benchmarks/bench_live.py). Its ``spin()`` busy-waits
+    and ignores shutdown in rclpy 7.1 (Jazzy), so ``spin`` here calls ``spin_once`` in a loop
+    until ``stop`` is called or the context shuts down. Where rclpy has no EventsExecutor,
+    'events' falls back to the SingleThreadedExecutor.
+
+    ``handle_signals`` makes SIGINT and SIGTERM call ``stop``: the callback that is running
+    finishes, then ``spin`` returns. (rclpy's own handlers chain to Python's, which raises
+    KeyboardInterrupt inside whatever callback runs; that would abort a sample half-way.)
+
+    Parameters
+    ----------
+    kind : str
+        'events' or 'single'.
+
+    """
+
+    def __init__(self, kind: str = 'events'):
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.utilities import get_default_context
+
+        if kind not in EXECUTORS:
+            raise InputError(f'executor {kind!r} is not one of {", ".join(EXECUTORS)}')
+        self.kind = kind
+        self._context = get_default_context()
+        self._stop = False
+        self.signal = None
+        if kind == 'events':
+            try:
+                from rclpy.experimental import EventsExecutor
+            except ImportError:
+                self.kind = 'single'
+            else:
+                self.executor = EventsExecutor()
+                return
+        self.executor = SingleThreadedExecutor()
+
+    def add_node(self, node):
+        """Add a node to the executor."""
+        self.executor.add_node(node)
+
+    def handle_signals(self):
+        """Stop spinning on SIGINT and SIGTERM (main thread only)."""
+        import signal
+
+        def handler(signum, _frame):
+            self.signal = signum
+            self.stop()
+
+        signal.signal(signal.SIGINT, handler)
+        signal.signal(signal.SIGTERM, handler)
+
+    def stop(self):
+        """Make ``spin`` return after the callback that is running (safe in a signal handler)."""
+        self._stop = True
+
+    def spin(self, period_s: float = 0.1):
+        """Run callbacks until ``stop`` or the context shuts down."""
+        while not self._stop and self._context.ok():
+            self.executor.spin_once(timeout_sec=period_s)
+
+    def shutdown(self):
+        """Shut the executor down."""
+        self.executor.shutdown()
+
+
+def init_without_signal_handlers(args=None):
+    """rclpy.init without rclpy's signal handlers (``Spinner.handle_signals`` does it)."""
+    import rclpy
+    from rclpy.signals import SignalHandlerOptions
+
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+
+
+def spin_node(node_class, node_name: str, args=None, executor: str = 'events') -> int:
+    """
+    Jazzy main(): init, build the node, spin until SIGINT/SIGTERM or shutdown, clean up.
+
+    Returns
+    -------
+    0, or 1 when the node could not start (bad parameters or model: logged as fatal).
+
+    """
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
+
+    init_without_signal_handlers(args)
+    node = None
+    try:
+        spinner = Spinner(executor)
+        spinner.handle_signals()
+        node = node_class()
+        spinner.add_node(node)
+        spinner.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except InputError as err:
+        rclpy.logging.get_logger(node_name).fatal(f'cannot start: {err}')
+        return 1
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+# -- stamps -----------------------------------------------------------------------------------
+
+def stamp_to_ns(stamp) -> int:
+    """Integer nanoseconds of a builtin_interfaces/Time."""
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def ns_to_stamp(stamp_ns: int) -> Time:
+    """builtin_interfaces/Time of integer nanoseconds."""
+    sec, nanosec = divmod(int(stamp_ns), 1_000_000_000)
+    return Time(sec=sec, nanosec=nanosec)
+
+
+# -- parameters -------------------------------------------------------------------------------
+
+def parameter_descriptor(spec) -> ParameterDescriptor:
+    """Build the ParameterDescriptor of a ParamSpec: type, description, range, read-only."""
+    descriptor = ParameterDescriptor(name=spec.name, type=_ROS_TYPES[spec.kind].value,
+                                     description=spec.description, read_only=spec.read_only)
+    if spec.min_value is not None:
+        if spec.kind == 'int':
+            descriptor.integer_range = [IntegerRange(
+                from_value=int(spec.min_value), to_value=int(spec.max_value), step=1)]
+        elif spec.kind == 'double':
+            descriptor.floating_point_range = [FloatingPointRange(
+                from_value=float(spec.min_value), to_value=float(spec.max_value), step=0.0)]
+        else:
+            descriptor.additional_constraints = (
+                f'each element in [{spec.min_value:g}, {spec.max_value:g}]')
+    return descriptor
+
+
+def declare_node_parameters(node, node_name: str) -> dict:
+    """
+    Declare every parameter of a node with its descriptor; return the validated values.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node (its overrides come from --params-file / -p).
+    node_name : str
+        ``IMU_NODE`` or ``CLASSIFIER_NODE`` (core.params).
+
+    Raises
+    ------
+    InputError : an override of the wrong type or out of range.
+
+    """
+    values = {}
+    for spec in node_specs(node_name).values():
+        default = spec.default
+        if spec.kind == 'double_array':
+            default = list(default) if default else Parameter.Type.DOUBLE_ARRAY
+        try:
+            param = node.declare_parameter(spec.name, default, parameter_descriptor(spec))
+        except InvalidParameterTypeException as err:
+            hint = ' (write doubles with a decimal point, e.g. 400.0)' \
+                if spec.kind in ('double', 'double_array') else ''
+            raise InputError(f'parameter {spec.name}: {err}{hint}') from None
+        except InvalidParameterValueException as err:
+            raise InputError(f'parameter {spec.name}: {err}') from None
+        values[spec.name] = validate_value(spec, param.value)
+    return values
+
+
+class LiveParameters:
+    """
+    Validates parameter changes on a running node and applies them.
+
+    The on-set callback checks each new value against its ParamSpec, then calls
+    ``check(values)`` with all values as they would be (it builds the core's dataclasses and
+    raises InputError on inconsistent values); a refusal carries the reason. The post-set
+    callback stores the values and calls ``apply(values, changed_names)``.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node, whose parameters are already declared.
+    node_name : str
+        ``IMU_NODE`` or ``CLASSIFIER_NODE``.
+    values : dict
+        Current values (from ``declare_node_parameters``).
+    check : callable
+        ``check(values)``, raising InputError when the set is unusable.
+    apply : callable
+        ``apply(values, changed)`` once accepted.
+
+    """
+
+    def __init__(self, node, node_name: str, values: dict, check, apply):
+        self.values = dict(values)
+        self._specs = node_specs(node_name)
+        self._check = check
+        self._apply = apply
+        node.add_on_set_parameters_callback(self._on_set)
+        node.add_post_set_parameters_callback(self._post_set)
+
+    def _proposed(self, params) -> dict:
+        values = dict(self.values)
+        for param in params:
+            spec = self._specs.get(param.name)
+            if spec is None:
+                if is_ros_owned(param.name):        # use_sim_time...: rclpy's business
+                    continue
+                raise InputError(f'{param.name} is not a parameter of this node')
+            values[param.name] = validate_value(spec, param.value)
+        return values
+
+    def _on_set(self, params) -> SetParametersResult:
+        try:
+            self._check(self._proposed(params))
+        except InputError as err:
+            return SetParametersResult(successful=False, reason=str(err))
+        return SetParametersResult(successful=True)
+
+    def _post_set(self, params):
+        changed = [p.name for p in params if p.name in self._specs]
+        if changed:
+            self.values = self._proposed(params)
+            self._apply(self.values, changed)
+
+
+# -- messages ---------------------------------------------------------------------------------
+
+def imu_sample(msg):
+    """Return (stamp_ns, acc_b, gyr_b, frame_id) of a sensor_msgs/Imu (tuples of 3 floats)."""
+    acc, gyr, header = msg.linear_acceleration, msg.angular_velocity, msg.header
+    return (header.stamp.sec * 1_000_000_000 + header.stamp.nanosec, (acc.x, acc.y, acc.z),
+            (gyr.x, gyr.y, gyr.z), header.frame_id)
+
+
+def imu_sample_from_cdr(data: bytes):
+    """
+    Return (stamp_ns, acc_b, gyr_b, frame_id) of a serialised sensor_msgs/Imu.
+
+    The IMU node subscribes with ``raw=True`` and decodes here: building the Python message
+    (nine objects and three numpy covariance arrays per sample) costs more than the rest of
+    the transport. Plain little-endian CDR (what ROS 2 middlewares send) is read in place:
+
+        4-byte encapsulation 00 01 00 00 | int32 sec | uint32 nanosec | uint32 n |
+        frame_id (n bytes, NUL included) | pad to 8 | 37 float64: orientation (4),
+        orientation_covariance (9), angular_velocity (3), its covariance (9),
+        linear_acceleration (3), its covariance (9)
+
+    (alignment counts from the end of the encapsulation); any other encoding goes through
+    rclpy's deserializer.
+
+    Raises
+    ------
+    InputError : bytes that are not a sensor_msgs/Imu.
+
+    """
+    if data[:2] == _CDR_LE and len(data) >= 16:
+        sec, nanosec, length = _CDR_HEADER.unpack_from(data, 4)
+        doubles_at = 4 + -(-(12 + length) // 8) * 8
+        if length >= 1 and len(data) >= doubles_at + _IMU_DOUBLES_SIZE:
+            return (sec * 1_000_000_000 + nanosec,
+                    _VECTOR3.unpack_from(data, doubles_at + _ACC_OFFSET),
+                    _VECTOR3.unpack_from(data, doubles_at + _GYR_OFFSET),
+                    data[16:15 + length].decode('utf-8', errors='replace'))
+    try:
+        return imu_sample(deserialize_message(data, Imu))
+    except Exception as err:   # noqa: B902 the deserializer raises several kinds
+        raise InputError(f'not a sensor_msgs/Imu message ({len(data)} bytes): {err}') from None
+
+
+@dataclass(frozen=True)
+class CycleMessage:
+    """
+    A decoded gait-cycle message.
+
+    Attributes
+    ----------
+    stamp_ns : int
+        Stamp of the sample that closed the cycle, ns.
+    x_m, y_m, z_m : float
+        EKF position at that sample (z: raw INS height), m, odometry frame.
+    valid : bool
+        False for a cycle with a gap or an overlong swing.
+    features : (5,) array
+        In ``FEATURE_NAMES`` order.
+
+    """
+
+    stamp_ns: int
+    x_m: float
+    y_m: float
+    z_m: float
+    valid: bool
+    features: np.ndarray
+
+
+_CYCLE_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(CYCLE_FIELDS))
+
+
+def cycle_to_msg(cycle, frame_id: str) -> PointCloud2:
+    """
+    PointCloud2 of one GaitCycle (layout in the module docstring).
+
+    A cycle with a non-finite value is sent as invalid (valid = 0), never classified.
+    """
+    position = [float(v) for v in cycle.pos_n]
+    features = [float(v) for v in cycle.features]
+    finite = all(math.isfinite(v) for v in position + features)
+    values = (*position, 1.0 if cycle.valid and finite else 0.0, *features)
+    msg = PointCloud2()
+    msg.header.stamp = ns_to_stamp(cycle.stamp_ns)
+    msg.header.frame_id = frame_id
+    msg.height = 1
+    msg.width = 1
+    msg.fields = [PointField(name=name, offset=offset, datatype=datatype, count=count)
+                  for name, offset, datatype, count in _CYCLE_LAYOUT]
+    msg.is_bigendian = False
+    msg.point_step = _CYCLE_STRUCT.size
+    msg.row_step = _CYCLE_STRUCT.size
+    msg.data = _CYCLE_STRUCT.pack(*values)
+    msg.is_dense = finite
+    return msg
+
+
+def cycle_from_msg(msg) -> CycleMessage:
+    """
+    Decode a gait-cycle PointCloud2, checking its layout.
+
+    Raises
+    ------
+    InputError : not one point with exactly ``CYCLE_FIELDS`` as little-endian FLOAT64.
+
+    """
+    layout = tuple((f.name, f.offset, f.datatype, f.count) for f in msg.fields)
+    if layout != _CYCLE_LAYOUT or msg.is_bigendian or msg.width * msg.height != 1 \
+            or msg.point_step != _CYCLE_STRUCT.size or len(msg.data) != _CYCLE_STRUCT.size:
+        raise InputError(f'gait_cycle message does not have the expected layout (one point, '
+                         f'fields {", ".join(CYCLE_FIELDS)} as FLOAT64); got fields '
+                         f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
+                         f'{len(msg.data)} bytes')
+    values = _CYCLE_STRUCT.unpack(bytes(msg.data))
+    return CycleMessage(stamp_ns=stamp_to_ns(msg.header.stamp), x_m=values[0], y_m=values[1],
+                        z_m=values[2], valid=values[3] == 1.0,
+                        features=np.array(values[4:], dtype=float))
+
+
+def diagnostic_status(name: str, level: bytes, message: str, hardware_id: str,
+                      values: dict) -> DiagnosticStatus:
+    """Build a DiagnosticStatus with one KeyValue per item (floats: 6 significant digits)."""
+    def text(value):
+        if isinstance(value, bool):
+            return 'true' if value else 'false'
+        if isinstance(value, float):
+            return f'{value:.6g}'
+        return str(value)
+
+    return DiagnosticStatus(level=level, name=name, message=message, hardware_id=hardware_id,
+                            values=[KeyValue(key=k, value=text(v)) for k, v in values.items()])

@@ -1,0 +1,269 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The IMU node: foot IMU in, gait cycles, foot track and diagnostics out.
+
+Each ``sensor_msgs/msg/Imu`` message goes through the input gate (``core/input_gate.py``:
+non-finite values, wrong frame, out-of-order or duplicate stamps, wrong units are refused,
+saturation and gaps are counted) and then ``FootNavigator.step``. Nothing that was refused
+reaches the navigator, and a navigator error (IMU data that are not SI at start-up) is
+counted as ``wrong_units``: bad input never stops the node.
+
+Topics
+------
+Subscribes:
+    ``imu_topic`` (parameter, default ``/imu/data``), sensor_msgs/Imu, sensor-data QoS with
+    depth ``imu_qos_depth`` (200).
+Publishes:
+    ``gait_cycle``, sensor_msgs/PointCloud2, reliable, volatile, depth 100: one message per
+    gait cycle (invalid ones too, flagged), one point, fields x, y, z (raw INS height),
+    valid and the five features; layout in ``nodes/common.py``.
+    ``foot_odom``, nav_msgs/Odometry, reliable, transient local, depth 1, at
+    ``track_rate_hz`` (10 Hz): the latest EKF pose of the IMU, frame ``odom_frame_id``
+    (REP 105 ``odom``), child frame the IMU frame; position covariance from the filter
+    (isotropic, sigma^2 / 3 per axis), the rest unknown (0); twist not estimated (0).
+    ``/diagnostics``, diagnostic_msgs/DiagnosticArray, at ``diagnostics_rate_hz`` (1 Hz):
+    "imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps) and
+    "imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma).
+
+Parameters: every navigator and input-gate parameter of ``core/params.py`` (read once at start;
+the ``gate.*`` ones may change live) and the node-level ones listed there.
+"""
+
+import sys
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from nav_msgs.msg import Odometry
+import numpy as np
+from rclpy.node import Node
+from sensor_msgs.msg import Imu, PointCloud2
+
+from .common import CYCLE_QOS, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
+from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
+from .common import ns_to_stamp, spin_node
+from ..core.errors import InputError
+from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
+from ..core.input_gate import WRONG_UNITS
+from ..core.navigator import FootNavigator
+from ..core.params import gate_params_from_dict, IMU_NODE, navigator_params_from_dict
+
+REJECT_LOG_PERIOD_S = 5.0
+
+
+class ImuNode(Node):
+    """
+    Foot IMU to gait cycles: input gate, FootNavigator, publishers, diagnostics.
+
+    Parameters
+    ----------
+    kwargs
+        Passed to rclpy's Node (e.g. ``context``, ``parameter_overrides``).
+
+    Raises
+    ------
+    InputError : bad parameters (type, range, inconsistent values).
+
+    """
+
+    def __init__(self, **kwargs):
+        super().__init__(IMU_NODE, **kwargs)
+        values = declare_node_parameters(self, IMU_NODE)
+        self._navigator = FootNavigator(navigator_params_from_dict(values))
+        self._gate = InputGate(gate_params_from_dict(values))
+        self._live_parameters = LiveParameters(
+            self, IMU_NODE, values, self._check_parameters, self._apply_parameters)
+        self._odom_frame_id = values['odom_frame_id']
+        self._imu_frame_id = values['gate.frame_id']
+        self._received = 0
+        self._internal_errors = 0
+        self._malformed = 0
+        self._last_point = None
+        self._published_point = None
+        self._period_start = (0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
+        self._period_start_ns = self.get_clock().now().nanoseconds
+
+        self._cycle_pub = self.create_publisher(PointCloud2, 'gait_cycle', CYCLE_QOS)
+        self._odom_pub = self.create_publisher(Odometry, 'foot_odom', LATEST_QOS)
+        self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
+        # raw=True: the callback decodes the CDR bytes itself (imu_sample_from_cdr), which
+        # halves the cost of a message compared with building the Python Imu object.
+        self.create_subscription(Imu, values['imu_topic'], self._on_imu,
+                                 imu_qos(values['imu_qos_depth']), raw=True)
+        if values['track_rate_hz'] > 0.0:
+            self.create_timer(1.0 / values['track_rate_hz'], self._publish_track)
+        self.create_timer(1.0 / values['diagnostics_rate_hz'], self._publish_diagnostics)
+        self.get_logger().info(
+            f"listening on {self.resolve_topic_name(values['imu_topic'])}; waiting for the "
+            'first stance to start navigating')
+
+    # -- parameters ----------------------------------------------------------------------------
+
+    @staticmethod
+    def _check_parameters(values):
+        navigator_params_from_dict(values)
+        gate_params_from_dict(values)
+
+    def _apply_parameters(self, values, changed):
+        self._gate.set_params(gate_params_from_dict(values))
+        self._imu_frame_id = values['gate.frame_id']
+        self.get_logger().info(f'parameters changed: {", ".join(changed)}')
+
+    # -- input ---------------------------------------------------------------------------------
+
+    def _on_imu(self, data: bytes):
+        self._received += 1
+        try:
+            stamp_ns, acc_b, gyr_b, frame_id = imu_sample_from_cdr(data)
+        except InputError as err:
+            self._malformed += 1
+            self.get_logger().warning(f'IMU message refused: {err}',
+                                      throttle_duration_sec=REJECT_LOG_PERIOD_S)
+            return
+        latched = self._gate.units_latched
+        reason = self._gate.check(stamp_ns, acc_b, gyr_b, frame_id)
+        if reason is not None:
+            if self._gate.units_latched and not latched:
+                self.get_logger().error('IMU data are in the wrong units (gyro beyond 40 rad/s '
+                                        'again and again: deg/s?); every message is refused '
+                                        'until the units are fixed and the node restarted')
+            self.get_logger().warning(f'IMU message refused: {reason} (counts in /diagnostics)',
+                                      throttle_duration_sec=REJECT_LOG_PERIOD_S)
+            return
+        was_initialised = self._navigator.status.initialised
+        try:
+            out = self._navigator.step(stamp_ns, np.array(acc_b), np.array(gyr_b))
+        except InputError as err:
+            self._gate.rejected[WRONG_UNITS] += 1
+            self.get_logger().error(f'IMU data refused by the navigator: {err}',
+                                    throttle_duration_sec=REJECT_LOG_PERIOD_S)
+            return
+        except Exception as err:   # noqa: B902 a bug must not stop a firefighter's tracking
+            self._internal_errors += 1
+            self.get_logger().error(f'internal error on an IMU sample ({type(err).__name__}: '
+                                    f'{err}); sample skipped',
+                                    throttle_duration_sec=REJECT_LOG_PERIOD_S)
+            return
+        if out is None:
+            return
+        point, cycle = out
+        if not was_initialised:
+            status = self._navigator.status
+            self.get_logger().info(f'navigation started ({status.rate_hz:.1f} Hz IMU, frame '
+                                   f'{frame_id!r})')
+        if not self._imu_frame_id:
+            self._imu_frame_id = frame_id
+        self._last_point = point
+        if cycle is not None:
+            self._cycle_pub.publish(cycle_to_msg(cycle, self._odom_frame_id))
+
+    # -- outputs -------------------------------------------------------------------------------
+
+    def _publish_track(self):
+        point = self._last_point
+        if point is None or point is self._published_point:
+            return
+        self._published_point = point
+        if not (np.all(np.isfinite(point.pos_n)) and np.all(np.isfinite(point.quat_nb))):
+            return
+        msg = Odometry()
+        msg.header.stamp = ns_to_stamp(point.stamp_ns)
+        msg.header.frame_id = self._odom_frame_id
+        msg.child_frame_id = self._imu_frame_id
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        p.x, p.y, p.z = (float(v) for v in point.pos_n)
+        q.w, q.x, q.y, q.z = (float(v) for v in point.quat_nb)
+        variance = self._navigator.status.pos_sigma_m ** 2 / 3.0
+        covariance = [0.0] * 36
+        covariance[0] = covariance[7] = covariance[14] = variance
+        msg.pose.covariance = covariance
+        self._odom_pub.publish(msg)
+
+    def diagnostics(self, now_ns: int) -> DiagnosticArray:
+        """Build the diagnostics since the last call (rates over that period)."""
+        gate, status = self._gate, self._navigator.status
+        received0, samples0, stance0, rejected0, flagged0 = self._period_start
+        period_s = max(1e-9, (now_ns - self._period_start_ns) * 1e-9)
+        rejected_now = {r: gate.rejected[r] - rejected0.get(r, 0) for r in REJECT_REASONS}
+        flagged_now = {r: gate.flagged[r] - flagged0.get(r, 0) for r in FLAG_REASONS}
+        received_now = self._received - received0
+        samples_now = status.samples - samples0
+        stance_now = status.stance_samples - stance0
+        self._period_start = (self._received, status.samples, status.stance_samples,
+                              dict(gate.rejected), dict(gate.flagged))
+        self._period_start_ns = now_ns
+
+        hardware_id = self._imu_frame_id or 'imu'
+        if gate.units_latched:
+            level, message = DiagnosticStatus.ERROR, ('IMU data in the wrong units (deg/s or '
+                                                      'mg?): all refused; fix and restart')
+        elif received_now == 0:
+            level, message = DiagnosticStatus.STALE, 'no IMU messages'
+        elif sum(rejected_now.values()):
+            refused = ', '.join(f'{n} {r}' for r, n in rejected_now.items() if n)
+            level, message = DiagnosticStatus.WARN, f'refused: {refused}'
+        elif flagged_now[GAP] or flagged_now[SATURATED]:
+            level, message = DiagnosticStatus.WARN, (f'{flagged_now[GAP]} gaps, '
+                                                     f'{flagged_now[SATURATED]} saturated')
+        else:
+            level, message = DiagnosticStatus.OK, 'ok'
+        values = {'input_rate_hz': received_now / period_s, 'received': self._received,
+                  'accepted': gate.accepted, 'rejected': gate.rejected_total}
+        values.update({f'rejected_{r}': gate.rejected[r] for r in REJECT_REASONS})
+        values.update({f'{r}_count': gate.flagged[r] for r in FLAG_REASONS})
+        values['malformed'] = self._malformed
+        values['units_latched'] = gate.units_latched
+        values['internal_errors'] = self._internal_errors
+        statuses = [diagnostic_status('imu_node: IMU input', level, message, hardware_id,
+                                      values)]
+
+        if self._internal_errors:
+            level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
+        elif not status.initialised:
+            level, message = DiagnosticStatus.WARN, 'waiting for the first stance'
+        else:
+            level, message = DiagnosticStatus.OK, 'navigating'
+        nav_values = {
+            'initialised': status.initialised, 'rate_hz': status.rate_hz,
+            'stance_fraction': stance_now / samples_now if samples_now else 0.0,
+            'samples': status.samples, 'cycles': status.cycles,
+            'invalid_cycles': status.invalid_cycles, 'gaps': status.gaps,
+            'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m}
+        statuses.append(diagnostic_status('imu_node: foot navigator', level, message,
+                                          hardware_id, nav_values))
+        msg = DiagnosticArray(status=statuses)
+        msg.header.stamp = ns_to_stamp(now_ns)
+        return msg
+
+    def _publish_diagnostics(self):
+        self._diag_pub.publish(self.diagnostics(self.get_clock().now().nanoseconds))
+
+    @property
+    def gate(self) -> InputGate:
+        """Give access to the input gate and its counters."""
+        return self._gate
+
+    @property
+    def navigator(self) -> FootNavigator:
+        """Give access to the navigator and its status."""
+        return self._navigator
+
+
+def main(args=None) -> int:
+    """Run the IMU node until Ctrl-C or shutdown; return the exit code."""
+    return spin_node(ImuNode, IMU_NODE, args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,195 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Offline replay: the live pipeline over a bag, as fast as it runs, to CSV files.
+
+``python -m anfis_elevation_ros replay BAG --out DIR [--params YAML]`` feeds every Imu message
+of the bag through the same objects the nodes run (input gate, ``FootNavigator``,
+``ElevationTracker``) and writes
+
+- ``DIR/track.csv``: one row per navigated IMU sample: ``stamp_ns,x_m,y_m,z_m`` (EKF-corrected
+  IMU position, ENU, origin where navigation starts), then ``qw,qx,qy,qz`` (attitude q_nb)
+  and ``stance`` (zero-velocity flag). Samples before start-up (the first stance) and
+  rejected samples have no row.
+- ``DIR/cycles.csv``: one row per gait cycle: ``stamp_ns,mode,height_m,x_m,y_m`` (stamp of
+  the first stance sample closing the cycle, stair mode, quantised height), then ``floor``,
+  ``anfis_output``, ``valid``, ``raw_height_m`` (INS height) and the five features.
+"""
+
+import argparse
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+import sys
+import time
+
+import numpy as np
+
+from ..core.errors import InputError
+from ..core.gait import FEATURE_NAMES
+from ..core.height import ElevationTracker
+from ..core.input_gate import InputGate
+from ..core.navigator import FootNavigator
+from ..core.params import load_model, load_pipeline_params
+
+TRACK_COLUMNS = ('stamp_ns', 'x_m', 'y_m', 'z_m', 'qw', 'qx', 'qy', 'qz', 'stance')
+CYCLE_COLUMNS = ('stamp_ns', 'mode', 'height_m', 'x_m', 'y_m', 'floor', 'anfis_output', 'valid',
+                 'raw_height_m') + FEATURE_NAMES
+PROGRESS_PERIOD_S = 5.0
+
+
+@dataclass
+class ReplayResult:
+    """
+    What a replay produced.
+
+    Attributes
+    ----------
+    track : (M, 9) array
+        Rows of ``TRACK_COLUMNS``.
+    cycles : list of tuple
+        Rows of ``CYCLE_COLUMNS``.
+    rejected : dict
+        Samples the input gate refused, by reason.
+    navigator : FootNavigator
+        The navigator after the last sample (its ``status`` holds the health counters).
+
+    """
+
+    track: np.ndarray
+    cycles: list
+    rejected: dict
+    navigator: FootNavigator
+
+
+def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
+    """
+    Run the live pipeline over a recording.
+
+    Parameters
+    ----------
+    recording : ImuRecording
+        The samples, in bag order.
+    pipeline : PipelineParams
+        Navigator, elevation and input-gate parameters (from ``load_pipeline_params``).
+    model : Anfis
+        The stair-mode classifier.
+    progress : callable or None
+        Called as ``progress(done, total)`` every few seconds.
+
+    """
+    gate = InputGate(pipeline.gate)
+    navigator = FootNavigator(pipeline.navigator)
+    tracker = ElevationTracker(model, pipeline.elevation)
+    n = len(recording)
+    track = np.empty((n, len(TRACK_COLUMNS)))
+    rows = 0
+    cycles = []
+    next_report = time.monotonic() + PROGRESS_PERIOD_S
+    for k in range(n):
+        stamp_ns = int(recording.stamp_ns[k])
+        acc_b, gyr_b = recording.acc_b[k], recording.gyr_b[k]
+        if gate.check(stamp_ns, acc_b, gyr_b, recording.frame_id) is not None:
+            continue
+        out = navigator.step(stamp_ns, acc_b, gyr_b)
+        if out is None:
+            continue
+        point, cycle = out
+        track[rows, 0] = stamp_ns
+        track[rows, 1:4] = point.pos_n
+        track[rows, 4:8] = point.quat_nb
+        track[rows, 8] = point.stance
+        rows += 1
+        if cycle is not None:
+            cycles.append(cycle_row(cycle, tracker))
+        if progress is not None and time.monotonic() > next_report:
+            progress(k + 1, n)
+            next_report += PROGRESS_PERIOD_S
+    return ReplayResult(track[:rows], cycles, dict(gate.rejected), navigator)
+
+
+def cycle_row(cycle, tracker: ElevationTracker) -> tuple:
+    """
+    Classify one gait cycle and return its ``CYCLE_COLUMNS`` row.
+
+    An invalid cycle (gap or overlong swing) is not classified: mode 0, height unchanged,
+    exactly as the classifier node does.
+    """
+    x_m, y_m, raw_height_m = (float(v) for v in cycle.pos_n)
+    if cycle.valid:
+        estimate = tracker.update(cycle.stamp_ns, cycle.features, x_m, y_m)
+        mode, anfis_output = estimate.mode, estimate.anfis_output
+    else:
+        mode, anfis_output = 0, float('nan')
+    return (cycle.stamp_ns, mode, tracker.height_m, x_m, y_m, tracker.floor, anfis_output,
+            int(cycle.valid), raw_height_m, *(float(f) for f in cycle.features))
+
+
+def write_csv(path: Path, columns, rows, integer_columns=()) -> None:
+    """Write rows under a header; integer columns as integers, the rest with full precision."""
+    integer = [name in integer_columns for name in columns]
+    with open(path, 'w', newline='') as f:
+        writer = csv.writer(f)
+        writer.writerow(columns)
+        for row in rows:
+            writer.writerow([int(v) if is_int else repr(float(v))
+                             for v, is_int in zip(row, integer)])
+
+
+def _report_progress(done, total):
+    print(f'replay: {done}/{total} samples ({100.0 * done / total:.0f} %)', file=sys.stderr)
+
+
+def run_replay(args: argparse.Namespace) -> int:
+    """Replay a bag through the pipeline and write track.csv and cycles.csv."""
+    from .bags import read_imu_bag  # rosbags is only needed here, not by `--help`
+
+    pipeline = load_pipeline_params(args.params)
+    model = load_model(pipeline.model_path)
+    recording = read_imu_bag(args.bag, topic=args.topic)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.monotonic()
+    result = replay_recording(recording, pipeline, model, progress=_report_progress)
+    elapsed_s = time.monotonic() - start
+    write_csv(out / 'track.csv', TRACK_COLUMNS, result.track, ('stamp_ns', 'stance'))
+    write_csv(out / 'cycles.csv', CYCLE_COLUMNS, result.cycles,
+              ('stamp_ns', 'mode', 'floor', 'valid'))
+    status = result.navigator.status
+    if not status.initialised:
+        raise InputError(f'{args.bag}: the foot never stood still long enough to start '
+                         'navigating; no track was produced')
+    rejected = ', '.join(f'{k} {v}' for k, v in sorted(result.rejected.items()) if v) or 'none'
+    final = result.cycles[-1] if result.cycles else None
+    print(f'replay: {len(recording)} samples in {elapsed_s:.1f} s '
+          f'({len(recording) / max(elapsed_s, 1e-9):.0f} samples/s), {len(result.cycles)} gait '
+          f'cycles ({status.invalid_cycles} invalid), rejected: {rejected}; final height '
+          f'{final[2] if final else 0.0:.2f} m, floor {final[5] if final else "-"}',
+          file=sys.stderr)
+    return 0
+
+
+def add_parser(subparsers) -> None:
+    """Add the ``replay`` subcommand."""
+    parser = subparsers.add_parser(
+        'replay', help='run the pipeline over a bag and write track.csv and cycles.csv',
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('bag', help='bag directory or .db3/.mcap file with sensor_msgs/Imu')
+    parser.add_argument('--out', required=True, help='output directory')
+    parser.add_argument('--params', default=None,
+                        help='ROS 2 parameter YAML as the nodes read (default: built-in defaults)')
+    parser.add_argument('--topic', default=None,
+                        help="Imu topic (default: the bag's only sensor_msgs/Imu topic)")
+    parser.set_defaults(handler=run_replay)

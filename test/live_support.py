@@ -1,0 +1,142 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Helpers of the live node tests and benchmarks: a known model, parameter files, subprocesses.
+
+``write_linear_model`` writes an ANFIS whose every rule has the same consequent
+y = height_change_m / K: the normalised firing strengths sum to one, so the network computes
+exactly that line whatever the memberships, and eq. (13) calls a cycle "up" when it climbed
+more than half a step. It is a model with a known answer, independent of training (the
+packaged default is trained separately and may change).
+"""
+
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import yaml
+
+PACKAGE_ROOT = Path(__file__).resolve().parents[1]
+SAMPLE_DIR = PACKAGE_ROOT / 'anfis_elevation_ros' / 'data' / 'sample_walk'
+SAMPLE_BAG = SAMPLE_DIR / 'imu'
+SAMPLE_STRIDES = SAMPLE_DIR / 'strides.csv'
+FLOOR_HEIGHT_M = 3.0
+
+
+def write_linear_model(path, step_height_m: float = 0.17) -> Path:
+    """Write the model y = height_change_m / step_height_m (see the module docstring)."""
+    from anfis_elevation_ros.core.anfis import Anfis, grid_partition
+
+    universe = np.array([[-1.0, 1.0], [0.0, 1.0], [-1.5, 1.5], [0.0, 2.0], [-1.0, 2.0]])
+    consequents = np.zeros((2 ** 5, 6))
+    consequents[:, 2] = 1.0 / step_height_m
+    model = Anfis.from_params(grid_partition(universe, 2, 'triangle'), consequents, universe,
+                              'triangle', {'note': 'test model: y = height_change_m / K'})
+    model.save(path)
+    return Path(path)
+
+
+def write_params(path, model_path, imu=None, classifier=None) -> Path:
+    """Write a ROS 2 parameter YAML for both nodes (model_path plus any extra values)."""
+    doc = {'imu_node': {'ros__parameters': dict(imu or {})},
+           'classifier_node': {'ros__parameters': {'model_path': str(model_path),
+                                                   **(classifier or {})}}}
+    Path(path).write_text(yaml.safe_dump(doc, sort_keys=False))
+    return Path(path)
+
+
+def cli(*args) -> list:
+    """Return the command line of ``python -m anfis_elevation_ros ARGS``."""
+    return [sys.executable, '-m', 'anfis_elevation_ros', *(str(a) for a in args)]
+
+
+def cli_env() -> dict:
+    """Environment for subprocesses: this checkout first on PYTHONPATH, the ROS isolation kept."""
+    env = dict(os.environ)
+    env['PYTHONPATH'] = os.pathsep.join(
+        [str(PACKAGE_ROOT)] + [p for p in env.get('PYTHONPATH', '').split(os.pathsep) if p])
+    return env
+
+
+def truth_floors(strides_csv=SAMPLE_STRIDES):
+    """Return (final floor, highest floor) of a strides.csv truth."""
+    from anfis_elevation_ros.core.height import floor_index
+
+    heights = np.genfromtxt(strides_csv, delimiter=',', names=True)['height_m']
+    floors = floor_index(heights, FLOOR_HEIGHT_M)
+    return int(floors[-1]), int(floors.max())
+
+
+class NodesProcess:
+    """
+    ``python -m anfis_elevation_ros run`` in a subprocess; stopped with SIGINT on exit.
+
+    Parameters
+    ----------
+    params : Path
+        Parameter YAML.
+    log_path : Path
+        Where the process's output goes.
+    extra : sequence of str
+        More arguments for ``run``.
+
+    """
+
+    def __init__(self, params, log_path, extra=()):
+        self.command = cli('run', '--params', params, *extra)
+        self.log_path = Path(log_path)
+        self.proc = None
+        self.returncode = None
+
+    def __enter__(self):
+        self._log = open(self.log_path, 'w')
+        self.proc = subprocess.Popen(self.command, stdout=self._log, stderr=subprocess.STDOUT,
+                                     stdin=subprocess.DEVNULL, env=cli_env(),
+                                     cwd=PACKAGE_ROOT)
+        return self
+
+    def stop(self, timeout_s: float = 20.0) -> int:
+        """SIGINT, wait; SIGKILL if it hangs (then the return code is negative)."""
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+            try:
+                self.proc.wait(timeout=timeout_s)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        self.returncode = self.proc.returncode if self.proc is not None else None
+        return self.returncode
+
+    def log(self) -> str:
+        """Return what the process printed so far."""
+        return self.log_path.read_text() if self.log_path.exists() else ''
+
+    def __exit__(self, *exc):
+        self.stop()
+        self._log.close()
+
+
+def wait_for(condition, timeout_s: float, period_s: float = 0.05) -> bool:
+    """Poll condition() until it is true or the time is up; return its last value."""
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return bool(condition())
+        time.sleep(period_s)
+    return True

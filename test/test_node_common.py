@@ -1,0 +1,113 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The nodes' conversions without DDS: Imu CDR decoding, the gait-cycle layout, descriptors."""
+
+import math
+
+from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.gait import GaitCycle
+from anfis_elevation_ros.core.params import all_specs
+from anfis_elevation_ros.nodes.common import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
+from anfis_elevation_ros.nodes.common import imu_sample, imu_sample_from_cdr
+from anfis_elevation_ros.nodes.common import parameter_descriptor
+import numpy as np
+import pytest
+from rclpy.serialization import serialize_message
+from sensor_msgs.msg import Imu
+
+
+def make_imu(frame_id, stamp_ns=1_700_000_123_456_789_012):
+    msg = Imu()
+    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
+    msg.header.frame_id = frame_id
+    msg.orientation.w = 0.5
+    msg.orientation_covariance = [float(i) for i in range(9)]
+    msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = 0.1, -2.5, 33.0
+    msg.angular_velocity_covariance[4] = 7.0
+    msg.linear_acceleration.x, msg.linear_acceleration.y = -1e-300, math.pi
+    msg.linear_acceleration.z = 9.80665
+    msg.linear_acceleration_covariance[8] = -3.0
+    return msg
+
+
+@pytest.mark.parametrize('frame_id', ['', 'a', 'imu', 'imu_lin', 'imu_link', 'foot/left_imu',
+                                      'x' * 17, 'fuß'])
+def test_cdr_decoding_equals_rclpy(frame_id):
+    """The in-place decoder reads what rclpy serialised, for every string alignment."""
+    msg = make_imu(frame_id)
+    assert imu_sample_from_cdr(serialize_message(msg)) == imu_sample(msg)
+
+
+def test_cdr_decoding_other_encapsulation_falls_back():
+    """Big-endian CDR goes through rclpy's deserializer (or is refused if it cannot)."""
+    data = bytearray(serialize_message(make_imu('imu_link')))
+    data[1] = 0x00                                          # CDR_BE
+    with pytest.raises(InputError, match='not a sensor_msgs/Imu'):
+        imu_sample_from_cdr(bytes(data[:20]))
+
+
+def test_cdr_decoding_truncated_is_refused():
+    """Too few bytes for the 37 doubles: an InputError, never an exception of struct."""
+    data = serialize_message(make_imu('imu_link'))
+    with pytest.raises(InputError):
+        imu_sample_from_cdr(data[:-8])
+
+
+def test_cycle_message_round_trip_and_layout():
+    """Stamp, position, validity and features survive; fields are named FLOAT64 at 8k."""
+    cycle = GaitCycle(stamp_ns=1_700_000_001_000_000_001, start_stamp_ns=0,
+                      pos_n=np.array([1.5, -2.25, 0.34]),
+                      features=np.array([0.1, 0.02, 0.34, 0.4, 0.3]), valid=True)
+    msg = cycle_to_msg(cycle, 'odom')
+    assert [f.name for f in msg.fields] == list(CYCLE_FIELDS)
+    assert [f.offset for f in msg.fields] == [8 * i for i in range(9)]
+    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 72
+    back = cycle_from_msg(msg)
+    assert back.stamp_ns == cycle.stamp_ns and back.valid
+    assert (back.x_m, back.y_m, back.z_m) == (1.5, -2.25, 0.34)
+    assert np.array_equal(back.features, cycle.features)
+
+
+def test_non_finite_cycle_is_sent_invalid():
+    """A cycle with a NaN is marked invalid (never classified) and not dense."""
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
+                      features=np.array([0.1, np.nan, 0.3, 0.4, 0.3]), valid=True)
+    msg = cycle_to_msg(cycle, 'odom')
+    assert not msg.is_dense and not cycle_from_msg(msg).valid
+
+
+def test_cycle_message_with_another_layout_is_refused():
+    """Fewer fields, another type or two points: InputError naming the expected fields."""
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
+                      valid=True)
+    msg = cycle_to_msg(cycle, 'odom')
+    msg.fields[3].datatype = 7                              # FLOAT32
+    with pytest.raises(InputError, match='expected layout'):
+        cycle_from_msg(msg)
+
+
+def test_descriptors_carry_the_table():
+    """Ranges, types, read-only flags and descriptions come from the ParamSpec table."""
+    specs = all_specs()
+    d = parameter_descriptor(specs['zupt.window_s'])
+    assert d.read_only and d.description == specs['zupt.window_s'].description
+    assert (d.floating_point_range[0].from_value, d.floating_point_range[0].to_value) == \
+        (0.005, 0.5)
+    d = parameter_descriptor(specs['imu_qos_depth'])
+    assert (d.integer_range[0].from_value, d.integer_range[0].to_value) == (1, 10000)
+    d = parameter_descriptor(specs['elevation.start_floor'])
+    assert not d.read_only
+    d = parameter_descriptor(specs['mounting_rpy_deg'])
+    assert 'each element' in d.additional_constraints
