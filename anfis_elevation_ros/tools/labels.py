@@ -26,8 +26,8 @@ swing) to ``stamp_ns`` (first stance sample after it). Its label is the stair mo
   at least ``min_fraction`` of the samples from the cycle's start to its closing stamp; other
   cycles (mixed, or mostly another activity) are unlabelled.
 - :func:`non_stride_cycles` -- cycles whose swing is shorter than any stride (the zero-velocity
-  detector flickering while the foot rests): the foot stayed on its step, so their label is 0
-  whatever the activity around them (a rule of the training tool, see ``train.py``).
+  detector flickering while the foot rests): the foot stayed on its step, so with per-sample
+  labels the training tool labels them 0 whatever the activity around them (see ``train.py``).
 
 Labels are int8 arrays in {-1, 0, +1} with a boolean ``labelled`` mask beside them; the value
 under a False mask is :data:`UNLABELLED`. Per-sample label arrays use :data:`OTHER` for samples of

@@ -29,9 +29,11 @@ valid gait cycle it closes gets a label (eq. 13 mode: +1 up, 0 level, -1 down):
   matched like the simulator's strides) with ``--bag-labels cycle``.
 
 Cycles the navigator marks invalid are not used; cycles without a label are left out (both are
-counted). A cycle whose swing is shorter than ``--min-stride-s`` is the detector flickering while
-the foot rests, not a stride: it is labelled level whatever the activity around it, so that the
-model learns that a foot that did not move climbed no step.
+counted). With per-sample labels (HuGaDB, ``--bag-labels sample``) a cycle whose swing is shorter
+than ``--min-stride-s`` is the detector flickering while the foot rests on a step, not a stride
+(on HuGaDB its features are all within a few mm of 0): it is labelled level whatever the activity
+around it, so that the model learns that a foot that did not move climbed no step. Simulator
+truth and per-cycle labels say what each cycle is, so the rule does not apply to them.
 
 Then: cross-validation (``--cv subject``: one fold per real subject -- HuGaDB subject or bag --
 with the simulated runs spread over the folds; ``--cv recording``: one fold per recording), the
