@@ -74,6 +74,36 @@ class ReplayResult:
     navigator: FootNavigator
 
 
+def navigated_samples(recording, gate: InputGate, navigator: FootNavigator):
+    """
+    Feed a recording through the input gate and the navigator, in the IMU node's order.
+
+    Parameters
+    ----------
+    recording : ImuRecording or SimulatedWalk
+        Anything with ``stamp_ns``, ``acc_b`` (m/s^2), ``gyr_b`` (rad/s) and optionally
+        ``frame_id``.
+    gate : InputGate
+        Refuses samples (its counters record why).
+    navigator : FootNavigator
+        Navigates the samples the gate passes.
+
+    Yields
+    ------
+    (k, TrackPoint, GaitCycle or None)
+        Index of the sample and the navigator's output, for every sample it navigated.
+
+    """
+    frame_id = getattr(recording, 'frame_id', None)
+    acc, gyr = np.asarray(recording.acc_b), np.asarray(recording.gyr_b)
+    for k, stamp_ns in enumerate(np.asarray(recording.stamp_ns).tolist()):
+        if gate.check(stamp_ns, acc[k], gyr[k], frame_id) is not None:
+            continue
+        out = navigator.step(stamp_ns, acc[k], gyr[k])
+        if out is not None:
+            yield k, out[0], out[1]
+
+
 def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
     """
     Run the live pipeline over a recording.
@@ -98,16 +128,8 @@ def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
     rows = 0
     cycles = []
     next_report = time.monotonic() + PROGRESS_PERIOD_S
-    for k in range(n):
-        stamp_ns = int(recording.stamp_ns[k])
-        acc_b, gyr_b = recording.acc_b[k], recording.gyr_b[k]
-        if gate.check(stamp_ns, acc_b, gyr_b, recording.frame_id) is not None:
-            continue
-        out = navigator.step(stamp_ns, acc_b, gyr_b)
-        if out is None:
-            continue
-        point, cycle = out
-        track[rows, 0] = stamp_ns
+    for k, point, cycle in navigated_samples(recording, gate, navigator):
+        track[rows, 0] = point.stamp_ns
         track[rows, 1:4] = point.pos_n
         track[rows, 4:8] = point.quat_nb
         track[rows, 8] = point.stance

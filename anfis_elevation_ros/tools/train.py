@@ -76,6 +76,7 @@ import numpy as np
 
 from . import labels as lab
 from .metrics import confusion_matrix
+from .replay import navigated_samples
 from ..core import sim
 from ..core.anfis import Anfis
 from ..core.errors import InputError
@@ -320,14 +321,8 @@ def navigate(recording, pipeline: Pipeline):
     """
     gate = InputGate(pipeline.gate)
     navigator = FootNavigator(pipeline.navigator)
-    cycles = []
-    acc_b, gyr_b = np.asarray(recording.acc_b), np.asarray(recording.gyr_b)
-    for k, stamp_ns in enumerate(np.asarray(recording.stamp_ns).tolist()):
-        if gate.check(stamp_ns, acc_b[k], gyr_b[k]) is not None:
-            continue
-        out = navigator.step(stamp_ns, acc_b[k], gyr_b[k])
-        if out is not None and out[1] is not None:
-            cycles.append(out[1])
+    cycles = [cycle for _, _, cycle in navigated_samples(recording, gate, navigator)
+              if cycle is not None]
     features = np.array([c.features for c in cycles], dtype=float).reshape(-1, 5)
     start_ns = np.array([c.start_stamp_ns for c in cycles], dtype=np.int64)
     stamp_ns = np.array([c.stamp_ns for c in cycles], dtype=np.int64)
