@@ -57,8 +57,10 @@ class ReplayResult:
 
     Attributes
     ----------
-    track : (M, 9) array
-        Rows of ``TRACK_COLUMNS``.
+    track_stamp_ns : (M,) int64 array
+        Stamp of each navigated sample (float64 cannot hold a stamp in ns exactly).
+    track : (M, 8) array
+        The other ``TRACK_COLUMNS`` of each row: position, attitude, stance flag.
     cycles : list of tuple
         Rows of ``CYCLE_COLUMNS``.
     rejected : dict
@@ -68,6 +70,7 @@ class ReplayResult:
 
     """
 
+    track_stamp_ns: np.ndarray
     track: np.ndarray
     cycles: list
     rejected: dict
@@ -124,22 +127,24 @@ def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
     navigator = FootNavigator(pipeline.navigator)
     tracker = ElevationTracker(model, pipeline.elevation)
     n = len(recording)
-    track = np.empty((n, len(TRACK_COLUMNS)))
+    track_stamp_ns = np.empty(n, dtype=np.int64)
+    track = np.empty((n, len(TRACK_COLUMNS) - 1))
     rows = 0
     cycles = []
     next_report = time.monotonic() + PROGRESS_PERIOD_S
     for k, point, cycle in navigated_samples(recording, gate, navigator):
-        track[rows, 0] = point.stamp_ns
-        track[rows, 1:4] = point.pos_n
-        track[rows, 4:8] = point.quat_nb
-        track[rows, 8] = point.stance
+        track_stamp_ns[rows] = point.stamp_ns
+        track[rows, 0:3] = point.pos_n
+        track[rows, 3:7] = point.quat_nb
+        track[rows, 7] = point.stance
         rows += 1
         if cycle is not None:
             cycles.append(cycle_row(cycle, tracker))
         if progress is not None and time.monotonic() > next_report:
             progress(k + 1, n)
             next_report += PROGRESS_PERIOD_S
-    return ReplayResult(track[:rows], cycles, dict(gate.rejected), navigator)
+    return ReplayResult(track_stamp_ns[:rows], track[:rows], cycles, dict(gate.rejected),
+                        navigator)
 
 
 def cycle_row(cycle, tracker: ElevationTracker) -> tuple:
@@ -186,7 +191,9 @@ def run_replay(args: argparse.Namespace) -> int:
     start = time.monotonic()
     result = replay_recording(recording, pipeline, model, progress=_report_progress)
     elapsed_s = time.monotonic() - start
-    write_csv(out / 'track.csv', TRACK_COLUMNS, result.track, ('stamp_ns', 'stance'))
+    write_csv(out / 'track.csv', TRACK_COLUMNS,
+              ((stamp, *row) for stamp, row in zip(result.track_stamp_ns.tolist(), result.track)),
+              ('stamp_ns', 'stance'))
     write_csv(out / 'cycles.csv', CYCLE_COLUMNS, result.cycles,
               ('stamp_ns', 'mode', 'floor', 'valid'))
     status = result.navigator.status
