@@ -22,13 +22,17 @@ Set before any test imports rclpy, and inherited by the nodes that tests start a
 - ROS_DOMAIN_ID: a domain of its own per test run (1..101, from the process id), so that test
   runs side by side on one machine do not see each other's topics.
 
-A value already set in the environment is kept.
+A value already set in the environment is kept, except ROS_HOME: it points to a new temporary
+directory, so that the nodes' state files (``$ROS_HOME/anfis_elevation_ros``) and ROS logs of
+a test run never touch ~/.ros nor resume a state from another run.
 """
 
 import os
+import tempfile
 
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 os.environ.setdefault('ROS_DOMAIN_ID', str(os.getpid() % 101 + 1))
+os.environ['ROS_HOME'] = tempfile.mkdtemp(prefix='anfis_elevation_ros_test_')
 
 
 def pytest_report_header(config):

@@ -53,9 +53,15 @@ def write_linear_model(path, step_height_m: float = 0.17) -> Path:
 
 
 def write_params(path, model_path, imu=None, classifier=None) -> Path:
-    """Write a ROS 2 parameter YAML for both nodes (model_path plus any extra values)."""
-    doc = {'imu_node': {'ros__parameters': dict(imu or {})},
-           'classifier_node': {'ros__parameters': {'model_path': str(model_path),
+    """
+    Write a ROS 2 parameter YAML for both nodes (model_path plus any extra values).
+
+    The state files go to ``state/`` beside the YAML, so that no test resumes another's state
+    or touches ~/.ros.
+    """
+    state = {'state_dir': str(Path(path).parent / 'state')}
+    doc = {'imu_node': {'ros__parameters': {**state, **(imu or {})}},
+           'classifier_node': {'ros__parameters': {'model_path': str(model_path), **state,
                                                    **(classifier or {})}}}
     Path(path).write_text(yaml.safe_dump(doc, sort_keys=False))
     return Path(path)

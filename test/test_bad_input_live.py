@@ -86,13 +86,15 @@ class LiveRun:
 
     def __init__(self, ros, overrides=None, classifier=False):
         params = [Parameter(k, value=v) for k, v in {'diagnostics_rate_hz': 10.0,
+                                                     'persist_state': False,
                                                      **(overrides or {})}.items()]
         self.imu = ImuNode(parameter_overrides=params)
         self.nodes = [self.imu]
         self.classifier = None
         if classifier:
             self.classifier = ClassifierNode(parameter_overrides=[
-                Parameter('model_path', value=str(ros['model']))])
+                Parameter('model_path', value=str(ros['model'])),
+                Parameter('persist_state', value=False)])
             self.nodes.append(self.classifier)
         self.listener = CycleListener()
         self.source = rclpy.create_node('bad_input_source')
@@ -259,6 +261,27 @@ def test_gap_invalidates_its_cycle_and_is_counted(live, clean):
     assert_all_finite(run)
 
 
+def test_random_message_loss_is_reported(live, clean):
+    """
+    10 % of the messages lost: estimated from the stamps, reported as a warning.
+
+    Single lost samples (10 ms at 100 Hz) are not gaps: the cycles stay valid.
+    """
+    samples, cycles = clean
+    kept = [s for s, r in zip(samples, np.random.default_rng(5).random(len(samples)))
+            if r >= 0.1]
+    run = live(overrides={'diagnostics_rate_hz': 0.1}).feed(clean_messages(kept))
+    run.imu._publish_diagnostics()     # one period spanning the whole input
+    run.spin_until(lambda: float(run.listener.diagnostic_value(IMU_INPUT, 'loss_fraction'))
+                   > 0.0)
+    level, message, values = run.listener.diagnostics[IMU_INPUT]
+    lost = len(samples) - len(kept)      # (a few are lost before navigation starts: not seen)
+    assert 0.9 * lost <= int(values['missing_samples']) <= lost
+    assert 0.08 < float(values['loss_fraction']) < 0.12
+    assert level == b'\x01' and '% of samples lost' in message     # WARN
+    assert all(c.valid for c in run.cycles) and len(run.cycles) == len(cycles)
+
+
 def test_saturated_samples_are_accepted_and_flagged(live, clean):
     """At a 2 g full scale the heel strikes saturate: flagged, passed on unchanged."""
     samples, cycles = clean
@@ -333,7 +356,7 @@ def test_malformed_cycle_message_is_skipped(live, clean):
     """A gait_cycle message of another layout is counted and not classified."""
     samples, cycles = clean
     run = live(classifier=True)
-    msg = cycle_to_msg(cycles[0], 'odom')
+    msg = cycle_to_msg(cycles[0], 'odom', 1)
     msg.fields = msg.fields[:-1]
     run.classifier._on_cycle(msg)
     assert run.classifier_count('malformed') == 1

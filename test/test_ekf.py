@@ -115,3 +115,19 @@ def test_correction_feeds_the_error_back():
 def test_noise_parameters_must_be_positive(field):
     with pytest.raises(ValueError, match=field):
         ekf.EkfParams(**{field: 0.0})
+
+
+def test_relevelled_covariance_resets_velocity_roll_and_pitch_only():
+    rng = np.random.default_rng(4)
+    A = rng.normal(size=(ekf.N_STATES, ekf.N_STATES))
+    P = A @ A.T
+    params = ekf.EkfParams()
+    R = ekf.relevelled_covariance(P, params)
+    reset = [3, 4, 5, 9, 10]                              # dV, roll, pitch
+    kept = [i for i in range(ekf.N_STATES) if i not in reset]
+    initial = np.diag(ekf.initial_covariance(params))
+    assert np.array_equal(np.diag(R)[reset], initial[reset])
+    off_diagonal = R[reset][:, reset] - np.diag(initial[reset])
+    assert not off_diagonal.any() and not R[reset][:, kept].any()
+    assert np.array_equal(R[np.ix_(kept, kept)], P[np.ix_(kept, kept)])
+    assert np.all(np.linalg.eigvalsh(R) > 0)

@@ -18,8 +18,9 @@ from anfis_elevation_ros import Anfis
 from anfis_elevation_ros.core.anfis import grid_partition
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.height import (
-    CycleEstimate, ElevationParams, ElevationTracker, FEATURE_NAMES, floor_index, HEIGHT_CHANGE,
-    quantised_height_step, quantised_step_count, round_half_away, stair_mode)
+    bridged_step_count, CycleEstimate, ElevationParams, ElevationTracker, FEATURE_NAMES,
+    floor_index, HEIGHT_CHANGE, quantised_height_step, quantised_step_count, round_half_away,
+    stair_mode)
 import numpy as np
 import pytest
 
@@ -221,3 +222,37 @@ def test_tracker_restores_height_after_a_restart():
         resumed.reset(float('nan'))
     with pytest.raises(ValueError, match='5 inputs'):
         ElevationTracker(Anfis(4), params)
+
+
+# ------------------------------------------------------------------------------ lost cycles
+
+@pytest.mark.parametrize('before, steps, after, lost, expected', [
+    (1, 2, 1, 1, 2), (1, 2, 1, 3, 6), (-1, -1, -1, 2, -2), (1, 2, 0, 1, 0), (0, 0, 1, 1, 0),
+    (-1, -2, 1, 1, 0), (0, 0, 0, 4, 0)])
+def test_bridged_step_count_table(before, steps, after, lost, expected):
+    assert bridged_step_count(before, steps, after, lost) == expected
+
+
+def test_invalid_cycles_inside_a_flight_are_bridged():
+    """Up, two invalid, up: the two lost cycles climbed as the one before (2 steps each)."""
+    model = ScriptedModel([0.9, 0.9, 0.1])
+    tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15))
+    first = tracker.update(0, _features(0.30), 0.0, 0.0)
+    lost = [tracker.update(k, None, 0.0, 0.0, valid=False) for k in (1, 2)]
+    assert [e.mode for e in lost] == [0, 0] and all(np.isnan(e.anfis_output) for e in lost)
+    assert [e.height_m for e in lost] == [first.height_m] * 2      # nothing until it is known
+    after = tracker.update(3, _features(0.31), 0.0, 0.0)
+    assert after.bridged_steps == 4
+    assert after.height_m == pytest.approx(0.30 + 0.60 + 0.30, abs=1e-12)
+    assert (tracker.bridged_cycles, tracker.unbridged_cycles) == (2, 0)
+    level = tracker.update(4, _features(0.0), 0.0, 0.0)
+    assert level.bridged_steps == 0 and len(model.seen) == 3     # invalid ones not classified
+
+
+def test_invalid_cycles_at_the_end_of_a_flight_add_nothing():
+    tracker = ElevationTracker(ScriptedModel([0.9, 0.0]), ElevationParams(step_height_m=0.15))
+    tracker.update(0, _features(0.30), 0.0, 0.0)
+    tracker.update(1, None, float('nan'), 0.0, valid=False)     # a lost cycle: no checks
+    after = tracker.update(2, _features(0.0), 0.0, 0.0)
+    assert after.bridged_steps == 0 and after.height_m == pytest.approx(0.30, abs=1e-12)
+    assert (tracker.bridged_cycles, tracker.unbridged_cycles) == (0, 1)

@@ -111,3 +111,28 @@ def test_a_resumed_navigator_starts_at_the_saved_position_and_heading():
     c, s = np.cos(1.0), np.sin(1.0)
     expected = start + np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ fresh_track[-1].pos_n
     assert np.allclose(resumed_track[-1].pos_n, expected, atol=1e-6)
+
+
+def test_the_attitude_is_relevelled_at_the_stance_after_a_gap():
+    """
+    200 ms lost mid-swing: that cycle is invalid; the next ones match the clean run's features.
+
+    Without re-levelling, the tilt error left by the gap corrupts the heights and pitch of the
+    cycles after it (the ZUPTs correct roll and pitch only slowly).
+    """
+    w = walk(imu='tactical')
+    _, clean = FootNavigator().run(*arrays(w))
+    target = clean[len(clean) // 2]
+    t = w.stamp_ns
+    gap_start = target.start_stamp_ns + 100_000_000
+    keep = ~((t > gap_start) & (t <= gap_start + 200_000_000))
+    navigator = FootNavigator()
+    _, cycles = navigator.run(t[keep], w.acc_b[keep], w.gyr_b[keep])
+    assert navigator.status.gaps == 1 and navigator.status.missing_samples == 40
+    k = [c.stamp_ns for c in cycles].index(target.stamp_ns)
+    assert not cycles[k].valid and all(c.valid for c in cycles[k + 1:])
+    after = np.array([c.features for c in cycles[k + 1:]])
+    reference = np.array([c.features for c in clean[clean.index(target) + 1:]])
+    assert after.shape == reference.shape
+    assert np.max(np.abs(after[:, :4] - reference[:, :4])) < 0.01      # m
+    assert np.max(np.abs(after[:, 4] - reference[:, 4])) < np.radians(1.0)

@@ -15,6 +15,7 @@
 """The nodes' conversions without DDS: Imu CDR decoding, the gait-cycle layout, descriptors."""
 
 import math
+import struct
 
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.gait import GaitCycle
@@ -70,12 +71,12 @@ def test_cycle_message_round_trip_and_layout():
     cycle = GaitCycle(stamp_ns=1_700_000_001_000_000_001, start_stamp_ns=0,
                       pos_n=np.array([1.5, -2.25, 0.34]),
                       features=np.array([0.1, 0.02, 0.34, 0.4, 0.3]), valid=True)
-    msg = cycle_to_msg(cycle, 'odom')
+    msg = cycle_to_msg(cycle, 'odom', 17)
     assert [f.name for f in msg.fields] == list(CYCLE_FIELDS)
-    assert [f.offset for f in msg.fields] == [8 * i for i in range(9)]
-    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 72
+    assert [f.offset for f in msg.fields] == [8 * i for i in range(10)]
+    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 80
     back = cycle_from_msg(msg)
-    assert back.stamp_ns == cycle.stamp_ns and back.valid
+    assert back.stamp_ns == cycle.stamp_ns and back.valid and back.index == 17
     assert (back.x_m, back.y_m, back.z_m) == (1.5, -2.25, 0.34)
     assert np.array_equal(back.features, cycle.features)
 
@@ -84,7 +85,7 @@ def test_non_finite_cycle_is_sent_invalid():
     """A cycle with a NaN is marked invalid (never classified) and not dense."""
     cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
                       features=np.array([0.1, np.nan, 0.3, 0.4, 0.3]), valid=True)
-    msg = cycle_to_msg(cycle, 'odom')
+    msg = cycle_to_msg(cycle, 'odom', 1)
     assert not msg.is_dense and not cycle_from_msg(msg).valid
 
 
@@ -92,9 +93,20 @@ def test_cycle_message_with_another_layout_is_refused():
     """Fewer fields, another type or two points: InputError naming the expected fields."""
     cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
                       valid=True)
-    msg = cycle_to_msg(cycle, 'odom')
+    msg = cycle_to_msg(cycle, 'odom', 1)
     msg.fields[3].datatype = 7                              # FLOAT32
     with pytest.raises(InputError, match='expected layout'):
+        cycle_from_msg(msg)
+
+
+@pytest.mark.parametrize('index', [0.0, -3.0, 2.5, float('nan'), 2.0 ** 60])
+def test_cycle_message_with_a_bad_index_is_refused(index):
+    """The index is a count from 1: anything else is a malformed message."""
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
+                      valid=True)
+    msg = cycle_to_msg(cycle, 'odom', 1)
+    msg.data = bytes(msg.data)[:-8] + struct.pack('<d', index)
+    with pytest.raises(InputError, match='cycle_index'):
         cycle_from_msg(msg)
 
 

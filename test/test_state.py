@@ -20,20 +20,33 @@ import stat
 
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.state import (
-    load_state, resumable_state, save_state, STATE_FORMAT, TrackingState)
+    ElevationState, load_state, NavigationState, resumable_state, save_state, state_file,
+    STATE_FORMAT, STATE_VERSION)
 import pytest
 
-STATE = TrackingState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
-                      imu_id='/imu/data:imu_link', height_m=3.4, floor=1, x_m=1.5, y_m=-2.0,
-                      z_m=3.3, heading_rad=0.7)
+STATE = NavigationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
+                        source_id='/imu/data:imu_link', x_m=1.5, y_m=-2.0, z_m=3.3,
+                        heading_rad=0.7, filter_ok=True, cycles=42,
+                        stride_period_s=1.1)
+ELEVATION = ElevationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
+                           source_id='/gait_cycle', height_m=3.4, floor=1, cycle_index=42)
 
 
-def test_round_trip_with_owner_only_permissions(tmp_path):
+@pytest.mark.parametrize('state', [STATE, ELEVATION])
+def test_round_trip_with_owner_only_permissions(tmp_path, state):
     path = tmp_path / 'state' / 'imu_node.json'
-    save_state(path, STATE)
-    assert load_state(path) == STATE
+    save_state(path, state)
+    assert load_state(path, type(state)) == state
     assert stat.S_IMODE(os.stat(path).st_mode) == 0o600
+    assert stat.S_IMODE(os.stat(path.parent).st_mode) == 0o700
     assert [p.name for p in path.parent.iterdir()] == ['imu_node.json']  # no temporary left
+
+
+def test_a_state_of_the_other_kind_is_refused(tmp_path):
+    path = tmp_path / 'classifier_node.json'
+    save_state(path, ELEVATION)
+    with pytest.raises(InputError, match='NavigationState'):
+        load_state(path, NavigationState)
 
 
 def test_a_failed_write_leaves_the_previous_state(tmp_path, monkeypatch):
@@ -44,39 +57,55 @@ def test_a_failed_write_leaves_the_previous_state(tmp_path, monkeypatch):
         raise OSError('disk full')
     monkeypatch.setattr(json, 'dump', broken_dump)
     with pytest.raises(OSError):
-        save_state(path, TrackingState(**{**STATE.__dict__, 'floor': 5}))
+        save_state(path, NavigationState(**{**STATE.__dict__, 'cycles': 43}))
     monkeypatch.undo()
-    assert load_state(path) == STATE
+    assert load_state(path, NavigationState) == STATE
     assert len(list(tmp_path.iterdir())) == 1
 
 
+def _document(**changes):
+    return json.dumps({'format': STATE_FORMAT, 'version': STATE_VERSION,
+                       'kind': 'NavigationState', **{**STATE.__dict__, **changes}})
+
+
 @pytest.mark.parametrize('content', ['', '{', '[]', '{"format": "x", "version": 1}',
-                                     json.dumps({'format': STATE_FORMAT, 'version': 2}),
-                                     json.dumps({'format': STATE_FORMAT, 'version': 1,
-                                                 'floor': 1}),
-                                     json.dumps({'format': STATE_FORMAT, 'version': 1,
-                                                 **{**STATE.__dict__, 'height_m': 'NaN'}}),
-                                     json.dumps({'format': STATE_FORMAT, 'version': 1,
-                                                 **{**STATE.__dict__, 'floor': 1.5}})])
+                                     '[' * 100000,
+                                     json.dumps({'format': STATE_FORMAT, 'version': 1}),
+                                     json.dumps({'format': STATE_FORMAT,
+                                                 'version': STATE_VERSION,
+                                                 'kind': 'NavigationState', 'cycles': 1}),
+                                     _document(x_m='NaN'), _document(cycles=1.5),
+                                     _document(filter_ok=1), _document(source_id=7),
+                                     _document(extra=1)])
 def test_corrupt_files_raise_input_error(tmp_path, content):
     path = tmp_path / 'state.json'
     path.write_text(content)
     with pytest.raises(InputError):
-        load_state(path)
+        load_state(path, NavigationState)
 
 
-def test_nan_height_is_refused_at_construction():
-    with pytest.raises(InputError, match='height_m'):
-        TrackingState(**{**STATE.__dict__, 'height_m': float('nan')})
+def test_nan_position_is_refused_at_construction():
+    with pytest.raises(InputError, match='x_m'):
+        NavigationState(**{**STATE.__dict__, 'x_m': float('nan')})
 
 
-def test_resume_only_fresh_state_of_the_same_imu(tmp_path):
+def test_resume_only_fresh_state_of_the_same_source(tmp_path):
     path = tmp_path / 'state.json'
-    state, reason = resumable_state(path, STATE.imu_id, 60.0, now_s=1010.0)
+    state, reason = resumable_state(path, NavigationState, STATE.source_id, 60.0, now_s=1010.0)
     assert state is None and 'no state file' in reason
     save_state(path, STATE)
-    state, reason = resumable_state(path, STATE.imu_id, 60.0, now_s=1010.0)
+    state, reason = resumable_state(path, NavigationState, STATE.source_id, 60.0, now_s=1010.0)
     assert state == STATE and reason.startswith('resuming')
-    assert resumable_state(path, STATE.imu_id, 60.0, now_s=1100.0)[0] is None  # too old
-    assert resumable_state(path, STATE.imu_id, 60.0, now_s=900.0)[0] is None  # from the future
-    assert resumable_state(path, '/imu/other:imu_link', 60.0, now_s=1010.0)[0] is None
+    assert resumable_state(path, NavigationState, STATE.source_id, 60.0,
+                           now_s=1100.0)[0] is None  # too old
+    assert resumable_state(path, NavigationState, STATE.source_id, 60.0,
+                           now_s=900.0)[0] is None  # from the future
+    assert resumable_state(path, NavigationState, '/imu/other:imu_link', 60.0,
+                           now_s=1010.0)[0] is None
+
+
+def test_state_file_names_follow_the_node_and_ros_home(monkeypatch):
+    monkeypatch.setenv('ROS_HOME', '/tmp/rh')
+    assert str(state_file('', '/imu_node')) == '/tmp/rh/anfis_elevation_ros/imu_node.state.json'
+    assert str(state_file('/var/x', '/left_boot/imu_node')) == \
+        '/var/x/left_boot.imu_node.state.json'

@@ -75,6 +75,8 @@ MF_TYPES = ('triangle', 'gbell')
 """Membership-function types; parameters (a, b, c) are feet-peak-foot or width-slope-centre."""
 MAX_CONSEQUENT_PARAMS = 5000
 """Largest n_rules * (n_inputs + 1): the normal matrix of the least-squares step is its square."""
+MAX_MODEL_BYTES = 10_000_000
+"""Largest model file :meth:`Anfis.load` reads; the largest rule base takes about 0.2 MB."""
 DEFAULT_RIDGE = 1e-4
 """
 Default ridge factor of :func:`least_squares_consequents`, relative to mean(diag(A^T A)).
@@ -1106,11 +1108,18 @@ class Anfis:
         path = os.fspath(path)
         hint = 'train a model (anfis_elevation_ros train) or pass the path of a saved one'
         try:
-            with open(path, encoding='utf-8') as stream:
-                text = stream.read()
+            with open(path, 'rb') as stream:
+                data = stream.read(MAX_MODEL_BYTES + 1)
         except FileNotFoundError:
             raise InputError(f'ANFIS model file not found: {path}; {hint}') from None
-        except (OSError, UnicodeDecodeError) as err:
+        except OSError as err:
+            raise InputError(f'cannot read ANFIS model file {path}: {err}; {hint}') from None
+        if len(data) > MAX_MODEL_BYTES:
+            raise InputError(f'{path} is larger than {MAX_MODEL_BYTES} bytes: not an ANFIS model '
+                             f'file; {hint}')
+        try:
+            text = data.decode('utf-8')
+        except UnicodeDecodeError as err:
             raise InputError(f'cannot read ANFIS model file {path}: {err}; {hint}') from None
 
         def reject_constant(name):
@@ -1119,7 +1128,11 @@ class Anfis:
 
         try:
             doc = json.loads(text, parse_constant=reject_constant)
-        except json.JSONDecodeError as err:
+        except InputError:
+            raise
+        # JSONDecodeError, and the ValueError of an integer of more than 4300 digits and the
+        # RecursionError of arrays nested too deep that json.loads also raises.
+        except (ValueError, RecursionError) as err:
             raise InputError(f'{path} is not valid JSON ({err}); the file is corrupt or '
                              f'truncated: {hint}') from None
         return cls._from_document(doc, path)
@@ -1157,14 +1170,16 @@ class Anfis:
         if not isinstance(doc.get('metadata', {}), dict):
             fail('metadata must be a JSON object')
         n_inputs, n_mfs = counts['n_inputs'], counts['n_mfs']
-        if n_mfs ** n_inputs * (n_inputs + 1) > MAX_CONSEQUENT_PARAMS:
+        # Each count alone first: n_mfs ** n_inputs of a huge n_inputs would never finish.
+        if max(n_inputs, n_mfs) > MAX_CONSEQUENT_PARAMS \
+                or n_mfs ** n_inputs * (n_inputs + 1) > MAX_CONSEQUENT_PARAMS:
             fail(f'{n_inputs} inputs x {n_mfs} MFs exceed {MAX_CONSEQUENT_PARAMS} consequents')
         shapes = {'input_range': (n_inputs, 2), 'mf_params': (n_inputs, n_mfs, 3),
                   'consequents': (n_mfs ** n_inputs, n_inputs + 1)}
         arrays = {}
         for key, shape in shapes.items():
             array = None
-            if _only_numbers(doc[key]):
+            if _only_numbers(doc[key], len(shape)):
                 try:
                     array = np.array(doc[key], dtype=float)
                 except (TypeError, ValueError, OverflowError):
@@ -1182,10 +1197,15 @@ class Anfis:
             raise InputError(f'{path}: {err}') from None
 
 
-def _only_numbers(value) -> bool:
-    """Return True if value is a number or nested lists of numbers (JSON true/false excluded)."""
+def _only_numbers(value, depth: int) -> bool:
+    """
+    Return True if value is a number or lists of numbers nested at most ``depth`` deep.
+
+    JSON true/false are not numbers; the depth bound keeps a deeply nested document from
+    exhausting the recursion limit.
+    """
     if isinstance(value, list):
-        return all(_only_numbers(item) for item in value)
+        return depth > 0 and all(_only_numbers(item, depth - 1) for item in value)
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 

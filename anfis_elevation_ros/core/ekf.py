@@ -153,6 +153,23 @@ def process_noise(params: EkfParams, dt_s: float) -> np.ndarray:
     return np.diag(diag)
 
 
+def relevelled_covariance(P: np.ndarray, params: EkfParams) -> np.ndarray:
+    """
+    Covariance after roll, pitch and velocity were reset at rest (after a data gap).
+
+    Rows and columns of dV and of roll and pitch in dphi are cleared (the reset values do not
+    depend on the old estimate), then P[dV] = the start-up velocity variance and
+    P[roll, pitch] = init_att_sigma^2, as at start-up; position, yaw and biases keep theirs.
+    """
+    P = P.copy()
+    reset = np.r_[np.arange(VEL.start, VEL.stop), ATT.start, ATT.start + 1]
+    P[reset, :] = 0.0
+    P[:, reset] = 0.0
+    initial = np.diag(initial_covariance(params))
+    P[reset, reset] = initial[reset]
+    return P
+
+
 def predict_covariance(P: np.ndarray, phi: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """Covariance prediction, eq. (6): P(k) = Phi P(k-1) Phi^T + Q."""
     return phi @ P @ phi.T + Q

@@ -22,6 +22,14 @@ heights relative to the stance height at the cycle start). The ANFIS maps them t
 steps of height K (eq. 14), and :func:`floor_index` turns the accumulated height into a floor.
 :class:`ElevationTracker` holds the height between cycles and runs the three for each cycle.
 
+Lost cycles (our policy; the method does not cover them). A gait cycle with missing IMU samples
+(a gap) or an overlong swing is invalid: its features are not trusted, so it is not classified
+and at first adds no step. Stair flights are continuous, so when the valid cycles on both sides
+of a run of invalid ones have the same stair mode, the foot was on that flight all along: the
+run is bridged with :func:`bridged_step_count` (each lost cycle climbed as many steps as the
+cycle before it). Otherwise (the run is at the start or end of a flight, or on level ground)
+nothing is added; at most one cycle's steps per flight end can be lost this way.
+
 Rounding. "round" in eq. 14 and in the floor index rounds halves away from zero
 (:func:`round_half_away`): 1.5 -> 2, -1.5 -> -2, 0.5 -> 1, -0.5 -> -1. Exact halves are rare with
 real data; this choice treats going up and going down alike around the start floor, which numpy's
@@ -29,6 +37,7 @@ and Python's round-half-to-even would not (0.5 -> 0 but 1.5 -> 2).
 
 Public API: :class:`ElevationParams`, :class:`CycleEstimate`, :class:`ElevationTracker`,
 :func:`stair_mode`, :func:`quantised_step_count`, :func:`quantised_height_step`,
+:func:`bridged_step_count`,
 :func:`floor_index`, :func:`round_half_away`, :data:`FEATURE_NAMES`, :data:`HEIGHT_CHANGE`.
 
 References
@@ -49,6 +58,9 @@ from .gait import FEATURE_NAMES
 
 HEIGHT_CHANGE = FEATURE_NAMES.index('height_change_m')
 """Index (2) of the cycle's raw height change dh (end minus start, m) in the feature vector."""
+
+MAX_CYCLE_HEIGHT_CHANGE_M = 10.0
+"""A gait cycle climbing more than this (m) comes from a diverged INS: treated as invalid."""
 
 MODE_UP, MODE_LEVEL, MODE_DOWN = 1, 0, -1
 """Values of the stair mode C of eq. 13."""
@@ -133,6 +145,28 @@ def quantised_step_count(mode, dh_m, step_height_m: float):
     """
     steps = np.maximum(1.0, round_half_away(np.abs(np.asarray(dh_m, dtype=float)) / step_height_m))
     return _int_result(np.asarray(mode) * steps, np.ndim(mode) == 0 and np.ndim(dh_m) == 0)
+
+
+def bridged_step_count(mode_before: int, steps_before: int, mode_after: int,
+                       lost_cycles: int) -> int:
+    """
+    Signed stair steps credited to a run of invalid cycles between two valid ones.
+
+    n = lost_cycles * steps_before   if mode_before = mode_after != 0, else 0
+
+    Parameters
+    ----------
+    mode_before, mode_after : int in {-1, 0, +1}
+        Stair modes of the valid cycles before and after the run.
+    steps_before : int
+        Signed steps of the valid cycle before the run (from :func:`quantised_step_count`).
+    lost_cycles : int
+        Invalid cycles in the run.
+
+    """
+    if mode_before != mode_after or mode_before == MODE_LEVEL:
+        return 0
+    return int(lost_cycles * steps_before)
 
 
 def quantised_height_step(mode, dh_m, step_height_m: float):
@@ -241,7 +275,8 @@ class CycleEstimate:
     height_m : float, quantised height h after this cycle (eq. 14), m, z up.
     floor : int, floor index at height_m.
     x_m, y_m : float, horizontal position of the foot in the navigation frame n (ENU), m.
-    anfis_output : float, the ANFIS output y that gave the mode.
+    anfis_output : float, the ANFIS output y that gave the mode (NaN for an invalid cycle).
+    bridged_steps : int, steps credited to the invalid cycles just before this one.
 
     """
 
@@ -252,6 +287,7 @@ class CycleEstimate:
     x_m: float
     y_m: float
     anfis_output: float
+    bridged_steps: int = 0
 
 
 class ElevationTracker:
@@ -293,6 +329,12 @@ class ElevationTracker:
             raise ValueError(f'height_m must be a finite number, got {height_m!r}')
         self._base_height_m = float(height_m)
         self._steps = 0
+        self._last_mode = MODE_LEVEL
+        self._last_steps = 0
+        self._lost = 0
+        self.bridged_cycles = 0
+        self.unbridged_cycles = 0
+        self.implausible_cycles = 0
 
     @property
     def height_m(self) -> float:
@@ -304,7 +346,8 @@ class ElevationTracker:
         """Return the current floor index."""
         return floor_index(self.height_m, self.params.floor_height_m, self.params.start_floor)
 
-    def update(self, stamp_ns: int, features, x_m: float, y_m: float) -> CycleEstimate:
+    def update(self, stamp_ns: int, features, x_m: float, y_m: float,
+               valid: bool = True) -> CycleEstimate:
         """
         Process one gait cycle: ANFIS -> mode (eq. 13) -> height (eq. 14) -> floor.
 
@@ -313,9 +356,14 @@ class ElevationTracker:
         stamp_ns : int
             Stamp of the cycle, ns.
         features : (5,) array
-            In the order of :data:`FEATURE_NAMES` (m, m, m, m, rad).
+            In the order of :data:`FEATURE_NAMES` (m, m, m, m, rad); ignored when not valid.
         x_m, y_m : float
             Horizontal position in the navigation frame n, m.
+        valid : bool
+            False for a cycle with a gap or an overlong swing: not classified (mode 0, height
+            unchanged) and bridged later if the valid cycles around it agree (module docstring).
+            A cycle climbing more than ``MAX_CYCLE_HEIGHT_CHANGE_M`` is handled as invalid too
+            (counted in ``implausible_cycles``).
 
         Returns
         -------
@@ -323,10 +371,20 @@ class ElevationTracker:
 
         Raises
         ------
-        InputError : features not of shape (5,) or not finite, or x_m / y_m not finite; the
-            tracker state is left unchanged.
+        InputError : features of a valid cycle not of shape (5,) or not finite, or x_m / y_m
+            not finite; the tracker state is left unchanged.
 
         """
+        try:
+            x_m, y_m = float(x_m), float(y_m)
+        except (TypeError, ValueError):
+            raise InputError(f'cycle position must be numbers, got x_m={x_m!r}, y_m={y_m!r}') \
+                from None
+        if not valid:
+            self._lost += 1
+            return self._estimate(stamp_ns, MODE_LEVEL, x_m, y_m, float('nan'))
+        if not (math.isfinite(x_m) and math.isfinite(y_m)):
+            raise InputError(f'cycle position is not finite: x_m={x_m}, y_m={y_m}; cycle skipped')
         try:
             features = np.asarray(features, dtype=float)
         except (TypeError, ValueError):
@@ -337,19 +395,28 @@ class ElevationTracker:
                              f'({", ".join(FEATURE_NAMES)}), got {features.shape}')
         if not np.isfinite(features).all():
             raise InputError(f'cycle features are not finite: {features.tolist()}; cycle skipped')
-        try:
-            x_m, y_m = float(x_m), float(y_m)
-        except (TypeError, ValueError):
-            raise InputError(f'cycle position must be numbers, got x_m={x_m!r}, y_m={y_m!r}') \
-                from None
-        if not (math.isfinite(x_m) and math.isfinite(y_m)):
-            raise InputError(f'cycle position is not finite: x_m={x_m}, y_m={y_m}; cycle skipped')
+        if abs(features[HEIGHT_CHANGE]) > MAX_CYCLE_HEIGHT_CHANGE_M:
+            self.implausible_cycles += 1
+            return self.update(stamp_ns, features, x_m, y_m, valid=False)
         output = float(self.model.predict(features[None, :])[0])
         mode = stair_mode(output, self.params.mode_threshold)                            # eq. 13
-        self._steps += quantised_step_count(mode, features[HEIGHT_CHANGE],
-                                            self.params.step_height_m)                  # eq. 14
+        steps = quantised_step_count(mode, features[HEIGHT_CHANGE],
+                                     self.params.step_height_m)                         # eq. 14
+        bridged = 0
+        if self._lost:
+            bridged = bridged_step_count(self._last_mode, self._last_steps, mode, self._lost)
+            if bridged:
+                self.bridged_cycles += self._lost
+            else:
+                self.unbridged_cycles += self._lost
+            self._lost = 0
+        self._steps += steps + bridged
+        self._last_mode, self._last_steps = mode, steps
+        return self._estimate(stamp_ns, mode, x_m, y_m, output, bridged)
+
+    def _estimate(self, stamp_ns, mode, x_m, y_m, output, bridged=0) -> CycleEstimate:
         height_m = self.height_m
         return CycleEstimate(stamp_ns=int(stamp_ns), mode=mode, height_m=height_m,
                              floor=floor_index(height_m, self.params.floor_height_m,
                                                self.params.start_floor),
-                             x_m=x_m, y_m=y_m, anfis_output=output)
+                             x_m=x_m, y_m=y_m, anfis_output=output, bridged_steps=bridged)

@@ -228,6 +228,11 @@ class InputGate:
             self.rejected[reason] += 1
         return reason
 
+    def refuse_accepted(self, reason: str):
+        """Count the sample just accepted as refused instead (the navigator refused it)."""
+        self.accepted -= 1
+        self.rejected[reason] += 1
+
     def _reason(self, stamp_ns, acc_b, gyr_b, frame_id):
         ax, ay, az = acc_b
         gx, gy, gz = gyr_b

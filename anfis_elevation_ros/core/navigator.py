@@ -25,6 +25,14 @@ once), takes roll and pitch from gravity, the gyro bias from the mean rate when 
 truly still, and the accelerometer bias along gravity from the magnitude it reads (which
 must be g at rest), and starts navigating at the origin with heading 0, or at a position and
 heading resumed from a saved state (``start_pos_n``, ``start_heading_rad``).
+
+Gaps: samples missing for longer than ``max_gap_s`` are bridged by integrating the mean of the
+samples on either side, over at most ``gait.max_swing_s`` (a foot is not in the air longer; a
+long dropout must not throw the track kilometres away). They leave the attitude unknown (the
+foot may have turned tens of degrees in a swing), and a tilt error would corrupt the height of
+the cycles after it. So at the first stance after a gap roll and pitch are taken from gravity
+again (the detector's mean specific force), the velocity is set to zero and their covariance
+reset as at start-up (``ekf.relevelled_covariance``); position, heading and biases carry on.
 """
 
 from collections import deque
@@ -104,13 +112,19 @@ class TrackPoint:
 
 @dataclass
 class NavigatorStatus:
-    """Health figures for diagnostics (counts since start)."""
+    """
+    Health figures for diagnostics (counts since start).
+
+    ``missing_samples`` estimates the samples lost between navigated ones: round(dt * rate) - 1
+    summed over the intervals longer than one period.
+    """
 
     initialised: bool = False
     rate_hz: float = 0.0
     samples: int = 0
     stance_samples: int = 0
     gaps: int = 0
+    missing_samples: int = 0
     cycles: int = 0
     invalid_cycles: int = 0
     last_nis: float = 0.0
@@ -184,6 +198,7 @@ class FootNavigator:
         self._detector.gravity_mps2 = rest_g
         self._gyr_bias = rest[:, 1].mean(axis=0) if still else np.zeros(3)
         self._P = ekf.initial_covariance(p.ekf)
+        self._relevel = False
         self._phi = np.eye(ekf.N_STATES)
         self._Q_per_s = ekf.process_noise(p.ekf, 1.0)
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
@@ -267,6 +282,9 @@ class FootNavigator:
         gap = dt_s > p.max_gap_s
         if gap:
             self.status.gaps += 1
+            self._relevel = True
+        self.status.missing_samples += max(0, round(dt_s * self.status.rate_hz) - 1)
+        dt_s = min(dt_s, p.gait.max_swing_s)
 
         # S1, eq. (1)-(3): bias-corrected interval means, trapezoidal integration.
         acc_mid = 0.5 * (acc_b + prev_acc_b) - self._acc_bias
@@ -286,6 +304,8 @@ class FootNavigator:
         self._update_threshold(gyr_b)
         if stance:
             self.status.stance_samples += 1
+            if self._relevel:
+                self._relevel_at_rest()
             dx, self._P, self.status.last_nis = ekf.zupt_correction(
                 self._P, self._vel, p.ekf.zupt_sigma_mps)
             self._q, self._vel, self._pos, self._acc_bias, self._gyr_bias = ekf.apply_correction(
@@ -298,6 +318,16 @@ class FootNavigator:
             self.status.invalid_cycles += not cycle.valid
             self.status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
         return self._track_point(stamp_ns, stance), cycle
+
+    def _relevel_at_rest(self):
+        """Roll and pitch from gravity, zero velocity, at the first stance after a gap."""
+        yaw = dcm_to_rpy(quat_to_dcm(self._q))[2]
+        C_nb = level_attitude_from_gravity(self._detector.mean_acc() - self._acc_bias)
+        C_nb = rpy_to_dcm(0.0, 0.0, yaw - dcm_to_rpy(C_nb)[2]) @ C_nb
+        self._q = dcm_to_quat(C_nb)
+        self._vel = np.zeros(3)
+        self._P = ekf.relevelled_covariance(self._P, self.params.ekf)
+        self._relevel = False
 
     def _update_threshold(self, gyr_b):
         if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b @ gyr_b)):

@@ -229,6 +229,16 @@ _DOCS = {
                                  -1000.0, 1000.0, _READ_ONLY),
 }
 
+_PERSISTENCE = (
+    ParamSpec('persist_state', True, 'Write the tracking state at every gait cycle and resume '
+              'from it at start when fresh and from the same source.'),
+    ParamSpec('state_dir', '', "Directory of the node's state file; '' is "
+              '$ROS_HOME/anfis_elevation_ros (~/.ros/anfis_elevation_ros).'),
+    ParamSpec('state_max_age_s', 300.0, 'A saved state older than this is not resumed, s (0: '
+              'never resume).', 0.0, 86400.0),
+    ParamSpec('cycle_history', 3600, 'Gait cycles kept for a late or restarted classifier '
+              '(transient local), messages; about an hour of walking.', 1, 100000),
+)
 _MODEL_PATH = ParamSpec('model_path', '', "ANFIS model JSON file; '' is the packaged "
                         'config/anfis_default.json.')
 _IMU_NODE_ONLY = (
@@ -239,11 +249,11 @@ _IMU_NODE_ONLY = (
     ParamSpec('track_rate_hz', 10.0, 'Rate of the foot_odom track, Hz; 0 publishes none.', 0.0,
               100.0),
     ParamSpec('diagnostics_rate_hz', 1.0, 'Rate of the /diagnostics status, Hz.', 0.1, 10.0),
-)
+) + _PERSISTENCE
 _CLASSIFIER_NODE_ONLY = (
     _MODEL_PATH,
     ParamSpec('map_frame_id', 'map', 'Frame of the published elevation points.'),
-)
+) + _PERSISTENCE
 
 
 def _param_value(value):
@@ -499,8 +509,22 @@ def gate_params_from_dict(flat: dict) -> GateParams:
 # -- YAML -------------------------------------------------------------------------------------
 
 class _RosYamlLoader(yaml.SafeLoader):
-    """SafeLoader that types plain scalars as rcl does: 1.2e7 and 1e-5 are doubles."""
+    """SafeLoader that types plain scalars as rcl does: 1.2e7 and 1e-5 are doubles, ints int64."""
 
+    def construct_yaml_int(self, node):
+        """Construct an integer; refuse one beyond int64, as rcl does."""
+        try:
+            value = super().construct_yaml_int(node)
+        except ValueError:          # more than 4300 digits
+            value = None
+        if value is None or not -2 ** 63 <= value < 2 ** 63:
+            text = node.value if len(node.value) <= 30 else node.value[:30] + '...'
+            raise yaml.constructor.ConstructorError(
+                None, None, f'integer {text} does not fit in 64 bits', node.start_mark)
+        return value
+
+
+_RosYamlLoader.add_constructor('tag:yaml.org,2002:int', _RosYamlLoader.construct_yaml_int)
 
 _FLOAT_RE = re.compile(r'^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)(?:[eE][-+]?[0-9]+)?$'
                        r'|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$')
@@ -551,6 +575,9 @@ def _is_wildcard(node_key: str) -> bool:
 
 def _key_matches(node_key: str, node_name: str) -> bool:
     """Tell whether a YAML node key (no leading /) applies to a node in the root namespace."""
+    # A run of 3+ stars matches what '**' does; collapsed, as '.*.*...' backtracks
+    # exponentially on a key that does not match.
+    node_key = re.sub(r'\*{3,}', '**', node_key)
     pattern = ''.join('.*' if part == '**' else '[^/]*' if part == '*' else re.escape(part)
                       for part in re.split(r'(\*\*|\*)', node_key))
     return re.fullmatch(pattern, node_name) is not None or node_key == node_name
@@ -596,15 +623,22 @@ def load_params_yaml(path) -> dict:
         raise InputError(f'parameter file {where!r} is larger than {MAX_YAML_BYTES} bytes')
     try:
         tree = yaml.load(data.decode('utf-8'), Loader=_RosYamlLoader)   # noqa: S506 safe loader
-    except (yaml.YAMLError, UnicodeDecodeError) as err:
-        raise InputError(f'{where} is not valid YAML: {err}') from None
+    # ValueError: a date that does not exist, such as 2024-13-45.
+    except (yaml.YAMLError, UnicodeDecodeError, ValueError) as err:
+        message = ' '.join(str(err).split())       # PyYAML's messages span several lines
+        raise InputError(f'{where} is not valid YAML: {message}') from None
+    except RecursionError:
+        raise InputError(f'{where}: the YAML is nested too deeply') from None
     if tree is None:
         return {}
     if not isinstance(tree, dict):
         raise InputError(f'{where}: expected "<node name>: ros__parameters: {{...}}", got a '
                          f'{type(tree).__name__}')
     entries = {}
-    _node_entries(tree, '', entries, where)
+    try:
+        _node_entries(tree, '', entries, where)
+    except RecursionError:      # a map that holds itself through an alias: &a {x: *a}
+        raise InputError(f'{where}: maps nested too deeply (a recursive alias?)') from None
     result = {}
     for node_key, flat in entries.items():
         nodes = _nodes_of_key(node_key)

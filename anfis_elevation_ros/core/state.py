@@ -15,12 +15,19 @@
 """
 Persisted tracking state: what a restarted node needs to carry on without a wrong floor.
 
-The state is data (JSON), never code: a small versioned document written atomically
-(temporary file in the same directory, fsync, rename) with permissions 0600 at every gait
-cycle, and read back on start when it is fresh enough and comes from the same IMU.
+Each node owns one state file (two processes never write the same file):
+
+- the IMU node writes a ``NavigationState`` (position, heading, filter status, IMU identity,
+  cycle count) and resumes the INS from it;
+- the classifier node writes an ``ElevationState`` (quantised height, floor, the last cycle it
+  counted) and resumes the height from it.
+
+A state is data (JSON), never code: a small versioned document written atomically (temporary
+file in the same directory, fsync, rename) with permissions 0600 at every gait cycle, and read
+back on start when it is fresh enough and comes from the same source.
 """
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 import json
 import math
 import os
@@ -31,14 +38,30 @@ import time
 from .errors import InputError
 
 STATE_FORMAT = 'anfis_elevation_ros.state'
-STATE_VERSION = 1
+STATE_VERSION = 2
 MAX_STATE_BYTES = 64 * 1024  # a state file is a few hundred bytes; refuse anything large
 
 
+def _check_fields(state):
+    """Refuse a state whose fields are not of their declared type (floats finite)."""
+    for f in fields(state):
+        value = getattr(state, f.name)
+        if f.type is float:
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool) \
+                and math.isfinite(value)
+        elif f.type is int:
+            ok = isinstance(value, int) and not isinstance(value, bool)
+        else:
+            ok = isinstance(value, f.type)
+        if not ok:
+            raise InputError(f'state {f.name} must be a{" finite" if f.type is float else ""} '
+                             f'{f.type.__name__}, got {value!r}')
+
+
 @dataclass(frozen=True)
-class TrackingState:
+class NavigationState:
     """
-    Minimal state of the tracking pipeline at a gait cycle.
+    What the IMU node needs to resume the INS where it stopped.
 
     Attributes
     ----------
@@ -46,47 +69,76 @@ class TrackingState:
         IMU stamp of the gait cycle the state was taken at, ns.
     wall_time_s : float
         Wall-clock time (Unix seconds) when it was written; the freshness test uses it.
-    imu_id : str
-        Identity of the IMU (the Imu messages' frame_id and topic); a state from another IMU
-        is never resumed.
-    height_m : float
-        Quantised height (eq. 14), m.
-    floor : int
-        Floor index.
+    source_id : str
+        Identity of the IMU (Imu topic and frame_id); a state from another IMU is never resumed.
     x_m, y_m, z_m : float
         INS position at the cycle, m (ENU, the track's origin).
     heading_rad : float
         Yaw of the IMU at the cycle, rad.
     filter_ok : bool
-        False when the filter was not navigating normally (no resume of the INS then).
+        False when the filter was not navigating normally (the INS is then not resumed).
+    cycles : int
+        Gait cycles published so far (the cycle index carries on from it).
+    stride_period_s : float
+        Recent median time between gait cycles, s (estimates the cycles lost in an outage).
 
     """
 
     stamp_ns: int
     wall_time_s: float
-    imu_id: str
-    height_m: float
-    floor: int
+    source_id: str
     x_m: float
     y_m: float
     z_m: float
     heading_rad: float
-    filter_ok: bool = True
+    filter_ok: bool
+    cycles: int
+    stride_period_s: float
 
     def __post_init__(self):
-        for name in ('wall_time_s', 'height_m', 'x_m', 'y_m', 'z_m', 'heading_rad'):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value):
-                raise InputError(f'state {name} must be a finite number, got {value!r}')
-        for name in ('stamp_ns', 'floor'):
-            if isinstance(getattr(self, name), bool) or not isinstance(getattr(self, name), int):
-                raise InputError(f'state {name} must be an integer, got {getattr(self, name)!r}')
-        if not isinstance(self.imu_id, str) or not isinstance(self.filter_ok, bool):
-            raise InputError('state imu_id must be a string and filter_ok a boolean')
+        _check_fields(self)
+        if not 0.1 <= self.stride_period_s <= 10.0:
+            raise InputError(f'state stride_period_s = {self.stride_period_s} is outside '
+                             '[0.1, 10] s')
 
 
-def save_state(path, state: TrackingState) -> None:
+@dataclass(frozen=True)
+class ElevationState:
+    """
+    What the classifier node needs to resume the height without counting a cycle twice.
+
+    Attributes
+    ----------
+    stamp_ns : int
+        Stamp of the last gait cycle counted, ns; cycles up to it are not counted again.
+    wall_time_s : float
+        Wall-clock time (Unix seconds) when it was written.
+    source_id : str
+        The gait-cycle topic the cycles came from.
+    height_m : float
+        Quantised height (eq. 14), m.
+    floor : int
+        Floor index.
+    cycle_index : int
+        Index of the last gait cycle counted (the IMU node numbers them from 1).
+
+    """
+
+    stamp_ns: int
+    wall_time_s: float
+    source_id: str
+    height_m: float
+    floor: int
+    cycle_index: int
+
+    def __post_init__(self):
+        _check_fields(self)
+
+
+_KINDS = {cls.__name__: cls for cls in (NavigationState, ElevationState)}
+
+
+def save_state(path, state) -> None:
     """
     Write the state atomically with permissions 0600.
 
@@ -98,13 +150,14 @@ def save_state(path, state: TrackingState) -> None:
     ----------
     path : str or Path
         State file.
-    state : TrackingState
+    state : NavigationState or ElevationState
         What to write.
 
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    document = {'format': STATE_FORMAT, 'version': STATE_VERSION, **asdict(state)}
+    path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+    document = {'format': STATE_FORMAT, 'version': STATE_VERSION,
+                'kind': type(state).__name__, **asdict(state)}
     fd, tmp = tempfile.mkstemp(prefix=f'.{path.name}.', dir=path.parent)
     try:
         os.fchmod(fd, 0o600)
@@ -118,15 +171,22 @@ def save_state(path, state: TrackingState) -> None:
         raise
 
 
-def load_state(path) -> TrackingState:
+def load_state(path, kind):
     """
     Read a state file written by ``save_state``.
+
+    Parameters
+    ----------
+    path : str or Path
+        State file.
+    kind : type
+        ``NavigationState`` or ``ElevationState``: the kind of state expected.
 
     Raises
     ------
     InputError
-        Missing, oversized, not JSON, another format or version, or fields missing, unknown
-        or of the wrong type.
+        Missing, oversized, not JSON, another format, version or kind, or fields missing,
+        unknown or of the wrong type.
 
     """
     path = Path(path)
@@ -136,31 +196,35 @@ def load_state(path) -> TrackingState:
         document = json.loads(path.read_text())
     except FileNotFoundError:
         raise InputError(f'{path}: no state file') from None
-    except (OSError, UnicodeDecodeError, ValueError) as err:
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as err:
         raise InputError(f'{path}: not a readable state file ({err})') from None
     if not isinstance(document, dict) or document.get('format') != STATE_FORMAT \
-            or document.get('version') != STATE_VERSION:
-        raise InputError(f'{path}: not a {STATE_FORMAT} version {STATE_VERSION} file')
-    fields = {k: v for k, v in document.items() if k not in ('format', 'version')}
+            or document.get('version') != STATE_VERSION \
+            or _KINDS.get(document.get('kind')) is not kind:
+        raise InputError(f'{path}: not a {STATE_FORMAT} version {STATE_VERSION} '
+                         f'{kind.__name__} file')
+    values = {k: v for k, v in document.items() if k not in ('format', 'version', 'kind')}
     try:
-        return TrackingState(**fields)
+        return kind(**values)
     except TypeError as err:
         raise InputError(f'{path}: wrong state fields ({err})') from None
 
 
-def resumable_state(path, imu_id: str, max_age_s: float, now_s: float = None):
+def resumable_state(path, kind, source_id: str, max_age_s: float, now_s: float = None):
     """
     Return the saved state if it may be resumed, with the reason either way.
 
-    A state is resumed when it reads cleanly, comes from the same IMU and is younger than
+    A state is resumed when it reads cleanly, comes from the same source and is younger than
     ``max_age_s`` (a firefighter who left the building an hour ago starts fresh).
 
     Parameters
     ----------
     path : str or Path
         State file.
-    imu_id : str
-        Identity of the IMU now connected.
+    kind : type
+        ``NavigationState`` or ``ElevationState``.
+    source_id : str
+        Identity of the source now connected (IMU, or gait-cycle topic).
     max_age_s : float
         Age limit, s.
     now_s : float or None
@@ -168,18 +232,40 @@ def resumable_state(path, imu_id: str, max_age_s: float, now_s: float = None):
 
     Returns
     -------
-    (TrackingState or None, str)
+    (state or None, str)
         The state to resume, or None, and a sentence for the log.
 
     """
     try:
-        state = load_state(path)
+        state = load_state(path, kind)
     except InputError as err:
         return None, f'starting fresh: {err}'
     age_s = (time.time() if now_s is None else now_s) - state.wall_time_s
-    if state.imu_id != imu_id:
-        return None, f'starting fresh: saved state is from IMU {state.imu_id!r}, not {imu_id!r}'
+    if state.source_id != source_id:
+        return None, (f'starting fresh: saved state is from {state.source_id!r}, '
+                      f'not {source_id!r}')
     if not 0.0 <= age_s <= max_age_s:
         return None, f'starting fresh: saved state is {age_s:.0f} s old (limit {max_age_s:.0f} s)'
-    return state, (f'resuming from saved state {age_s:.1f} s old: floor {state.floor}, '
-                   f'height {state.height_m:.2f} m')
+    return state, f'resuming from {path} (saved {age_s:.1f} s ago)'
+
+
+def default_state_dir() -> Path:
+    """Return ``$ROS_HOME/anfis_elevation_ros`` (``~/.ros/anfis_elevation_ros`` by default)."""
+    ros_home = os.environ.get('ROS_HOME') or os.path.join(os.path.expanduser('~'), '.ros')
+    return Path(ros_home) / 'anfis_elevation_ros'
+
+
+def state_file(state_dir: str, node_fqn: str) -> Path:
+    """
+    Return the state file of a node: ``<state_dir>/<namespace.node>.state.json``.
+
+    Parameters
+    ----------
+    state_dir : str
+        Directory; '' is ``default_state_dir()``.
+    node_fqn : str
+        Fully qualified node name, e.g. ``/left_boot/imu_node``.
+
+    """
+    directory = Path(state_dir) if state_dir else default_state_dir()
+    return directory / (node_fqn.strip('/').replace('/', '.') + '.state.json')

@@ -284,3 +284,7 @@ class ShoeDetector:
         g = self.gravity_mps2
         acc_term = self._sum_acc_sq - 2.0 * g * w * norm_mean_acc + w * g * g
         return (acc_term * self._inv_var_acc + self._sum_gyr_sq * self._inv_var_gyr) / w
+
+    def mean_acc(self) -> np.ndarray:
+        """Return the mean specific force over the window, a-bar of eq. (4), m/s^2."""
+        return np.array(self._sum_acc) / self.window

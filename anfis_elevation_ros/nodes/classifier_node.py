@@ -17,15 +17,18 @@ The classifier node: gait cycles in, stair mode, quantised height and floor out.
 
 Each valid gait cycle from the IMU node goes through ``ElevationTracker.update`` (ANFIS ->
 stair mode, eq. 13 -> quantised height, eq. 14 -> floor). Invalid cycles (a gap or an
-overlong swing) and malformed messages are counted, not classified: the height stays as it
-was. The model is loaded once at start from ``model_path`` ('' = the packaged
-``config/anfis_default.json``); a missing or corrupt model stops the node at start with an
-error and exit code 1, so it never runs with garbage.
+overlong swing) are counted, not classified: the height stays as it was until the next valid
+cycle, which bridges them when the cycles around agree on a stair mode (``core/height.py``).
+Malformed messages are counted and skipped. The model is loaded once at start from
+``model_path`` ('' = the packaged ``config/anfis_default.json``); a missing or corrupt model
+stops the node at start with an error and exit code 1, so it never runs with garbage.
 
 Topics
 ------
 Subscribes:
-    ``gait_cycle``, sensor_msgs/PointCloud2 (layout in ``nodes/common.py``), reliable.
+    ``gait_cycle``, sensor_msgs/PointCloud2 (layout in ``nodes/common.py``), reliable,
+    transient local, depth ``cycle_history``: started late or restarted, the node receives
+    the cycles the IMU node still holds and counts those newer than the last one it counted.
 Publishes (reliable, transient local, depth 1: a late subscriber gets the latest at once):
     ``elevation``, geometry_msgs/PointStamped: frame ``map_frame_id`` (``map``), stamp = the
     IMU stamp of the sample that closed the cycle, x, y = INS position, z = quantised height.
@@ -33,13 +36,22 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     ``floor``, std_msgs/Int32: the floor index per classified cycle, and ``elevation.start_floor``
     once at start.
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray at 1 Hz: "classifier_node: elevation"
-    (cycles classified, invalid, malformed, height, floor, mode).
+    (cycles classified, invalid, bridged, unbridged, missed (index gaps), malformed, height,
+    floor, mode, resumed or not, failed state writes).
 
 Parameters: ``elevation.*`` (step height, mode threshold, storey height and start floor may
-change live; the height is kept), ``model_path``, ``map_frame_id``; see ``core/params.py``.
+change live; the height is kept), ``model_path``, ``map_frame_id``, persistence; see
+``core/params.py``.
+
+Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``): after every gait cycle
+the node writes an ``ElevationState`` (quantised height, floor, stamp and index of the last
+cycle counted, source = the resolved gait_cycle topic) atomically with permissions 0600. On
+start a fresh state from the same topic is resumed: the height carries on, and cycles up to
+the saved index and stamp are not counted twice. The log says whether it resumed or started fresh.
 """
 
 import sys
+import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped
@@ -47,11 +59,12 @@ from rclpy.node import Node
 from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Int32, Int8
 
-from .common import cycle_from_msg, CYCLE_QOS, declare_node_parameters, DIAGNOSTICS_QOS
+from .common import cycle_from_msg, cycle_history_qos, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, LATEST_QOS, LiveParameters, ns_to_stamp, spin_node
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
 from ..core.params import CLASSIFIER_NODE, elevation_params_from_dict, load_model, model_file
+from ..core.state import ElevationState, resumable_state, save_state, state_file
 
 LOG_PERIOD_S = 5.0
 DIAGNOSTICS_PERIOD_S = 1.0
@@ -77,7 +90,24 @@ class ClassifierNode(Node):
         values = declare_node_parameters(self, CLASSIFIER_NODE)
         self._model = load_model(values['model_path'])
         self.get_logger().info(f"ANFIS model loaded from {model_file(values['model_path'])}")
-        self._tracker = ElevationTracker(self._model, elevation_params_from_dict(values))
+        self._source_id = self.resolve_topic_name('gait_cycle')
+        self._persist = values['persist_state']
+        self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
+        state, reason = None, 'starting fresh (persist_state is false)'
+        if self._persist:
+            state, reason = resumable_state(self._state_path, ElevationState, self._source_id,
+                                            values['state_max_age_s'])
+        self._tracker = ElevationTracker(self._model, elevation_params_from_dict(values),
+                                         height_m=None if state is None else state.height_m)
+        self._resumed = state is not None
+        self._last_stamp_ns = -1 if state is None else state.stamp_ns
+        self._last_index = 0 if state is None else state.cycle_index
+        self._state_write_errors = 0
+        self._already_counted = 0
+        self._missed = 0
+        self.get_logger().info(reason if state is None else
+                               f'{reason}: height {state.height_m:.2f} m, floor '
+                               f'{self._tracker.floor}, last cycle {state.cycle_index}')
         self._live_parameters = LiveParameters(
             self, CLASSIFIER_NODE, values, elevation_params_from_dict, self._apply_parameters)
         self._map_frame_id = values['map_frame_id']
@@ -91,10 +121,11 @@ class ClassifierNode(Node):
         self._mode_pub = self.create_publisher(Int8, 'stair_mode', LATEST_QOS)
         self._floor_pub = self.create_publisher(Int32, 'floor', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
-        self.create_subscription(PointCloud2, 'gait_cycle', self._on_cycle, CYCLE_QOS)
+        self.create_subscription(PointCloud2, 'gait_cycle', self._on_cycle,
+                                 cycle_history_qos(values['cycle_history']))
         self.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
         self._floor_pub.publish(Int32(data=self._floor))
-        self.get_logger().info(f'start floor {self._floor}')
+        self.get_logger().info(f'{"resumed" if self._resumed else "start"} floor {self._floor}')
 
     def _apply_parameters(self, values, changed):
         # Keep the height; the new step height counts from here, the floor follows the
@@ -112,17 +143,29 @@ class ClassifierNode(Node):
             self.get_logger().warning(f'gait_cycle message skipped: {err}',
                                       throttle_duration_sec=LOG_PERIOD_S)
             return
-        if not cycle.valid:
-            self._invalid += 1
+        if cycle.index <= self._last_index and cycle.stamp_ns <= self._last_stamp_ns:
+            # History sent to a restarted node. (A resumed IMU node carries its index on, so a
+            # sensor clock that restarted does not make new cycles look old.)
+            self._already_counted += 1
             return
+        self._note_cycle_index(cycle.index)
         try:
             estimate = self._tracker.update(cycle.stamp_ns, cycle.features, cycle.x_m,
-                                            cycle.y_m)
+                                            cycle.y_m, cycle.valid)
         except InputError as err:
             self._malformed += 1
             self.get_logger().warning(f'gait cycle skipped: {err}',
                                       throttle_duration_sec=LOG_PERIOD_S)
             return
+        self._last_stamp_ns, self._last_index = cycle.stamp_ns, cycle.index
+        if self._persist:
+            self._save_state()
+        if not cycle.valid:
+            self._invalid += 1
+            return
+        if estimate.bridged_steps:
+            self.get_logger().info(f'{estimate.bridged_steps:+d} steps credited to invalid '
+                                   'cycles inside a stair flight')
         self._classified += 1
         self._last_mode = estimate.mode
         point = PointStamped()
@@ -138,6 +181,29 @@ class ClassifierNode(Node):
                                    f'{estimate.height_m:.2f} m)')
             self._floor = estimate.floor
 
+    def _note_cycle_index(self, index: int):
+        if index > self._last_index + 1:
+            lost = index - self._last_index - 1
+            self._missed += lost
+            self.get_logger().warning(
+                f'{lost} gait cycles never received (index {self._last_index} -> {index}): '
+                'their stair steps are not counted')
+        elif index <= self._last_index:
+            self.get_logger().info(f'the IMU node restarted its cycle count ({self._last_index} '
+                                   f'-> {index}); carrying on from height '
+                                   f'{self._tracker.height_m:.2f} m')
+
+    def _save_state(self):
+        try:
+            save_state(self._state_path, ElevationState(
+                stamp_ns=self._last_stamp_ns, wall_time_s=time.time(),
+                source_id=self._source_id, height_m=self._tracker.height_m,
+                floor=self._tracker.floor, cycle_index=self._last_index))
+        except (OSError, InputError) as err:
+            self._state_write_errors += 1
+            self.get_logger().error(f'cannot write the state file: {err}',
+                                    throttle_duration_sec=LOG_PERIOD_S)
+
     def _publish_floor_if_changed(self):
         floor = self._tracker.floor
         if floor != self._floor:
@@ -147,13 +213,24 @@ class ClassifierNode(Node):
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""
-        if self._malformed:
-            level, message = DiagnosticStatus.WARN, f'{self._malformed} malformed cycles'
+        tracker = self._tracker
+        problems = [f'{n} {what}' for n, what in (
+            (self._malformed, 'malformed cycles'), (self._missed, 'cycles never received'),
+            (tracker.unbridged_cycles, 'invalid cycles not bridged'),
+            (tracker.implausible_cycles, 'implausible climbs'),
+            (self._state_write_errors, 'failed state writes')) if n]
+        if problems:
+            level, message = DiagnosticStatus.WARN, ', '.join(problems)
         else:
             level, message = DiagnosticStatus.OK, 'ok'
         values = {'classified': self._classified, 'invalid_cycles': self._invalid,
-                  'malformed': self._malformed, 'height_m': self._tracker.height_m,
-                  'floor': self._floor, 'last_mode': self._last_mode}
+                  'bridged_cycles': tracker.bridged_cycles,
+                  'unbridged_cycles': tracker.unbridged_cycles,
+                  'implausible_cycles': tracker.implausible_cycles, 'missed_cycles': self._missed,
+                  'already_counted': self._already_counted, 'malformed': self._malformed,
+                  'height_m': tracker.height_m, 'floor': self._floor,
+                  'last_mode': self._last_mode, 'resumed': self._resumed,
+                  'state_write_errors': self._state_write_errors}
         msg = DiagnosticArray(status=[diagnostic_status(
             'classifier_node: elevation', level, message, self._map_frame_id, values)])
         msg.header.stamp = ns_to_stamp(now_ns)

@@ -19,8 +19,12 @@ QoS (a decision per topic):
 
 - ``imu_qos(depth)``: ``qos_profile_sensor_data`` (best effort, volatile) with a deep queue, so
   that a burst of a 400 Hz IMU waits instead of being dropped while a callback runs.
-- ``CYCLE_QOS``: reliable, volatile, depth 100, for ``gait_cycle``: an event stream, every
-  message counts, and a late subscriber must not get an old cycle classified twice.
+- ``cycle_history_qos(depth)``: reliable, transient local, keep last ``depth`` (parameter
+  ``cycle_history``), for ``gait_cycle`` between the two nodes: an event stream where every
+  message counts; a classifier that starts late or restarts gets the cycles it missed (it
+  skips those it already counted: each cycle carries its index and stamp).
+- ``CYCLE_QOS``: reliable, volatile, depth 100: what tools that only watch ``gait_cycle`` use
+  (no history).
 - ``LATEST_QOS``: reliable, transient local, depth 1, for "latest state" topics (``elevation``,
   ``stair_mode``, ``floor``, ``foot_odom``): a late subscriber gets the current value at once.
 - ``DIAGNOSTICS_QOS``: reliable, volatile, depth 10 (what diagnostic_aggregator expects).
@@ -42,10 +46,11 @@ the cycle, in the odometry frame; its fields, all FLOAT64 (``CYCLE_FIELDS``):
   48   ``height_change_m``   feature eq. (10), m
   56   ``max_abs_height_m``  feature eq. (11), m
   64   ``max_pitch_rad``     feature eq. (12), rad
+  72   ``cycle_index``       index of the cycle, 1, 2, ... (continues after a resumed restart)
 =====  ====================  ==============================================================
 
 ``header.stamp`` is the stamp of the IMU sample that closed the cycle; ``header.frame_id`` the
-odometry frame; height = width = 1, point_step = row_step = 72, little endian, ``is_dense``
+odometry frame; height = width = 1, point_step = row_step = 80, little endian, ``is_dense``
 false when a value is not finite.
 """
 
@@ -68,7 +73,7 @@ from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES
 from ..core.params import is_ros_owned, node_specs, validate_value
 
-CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + FEATURE_NAMES
+CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + FEATURE_NAMES + ('cycle_index',)
 _CYCLE_STRUCT = struct.Struct('<' + 'd' * len(CYCLE_FIELDS))
 _CDR_LE = b'\x00\x01'                    # encapsulation: plain CDR, little endian
 _CDR_HEADER = struct.Struct('<iII')        # stamp sec, nanosec, frame_id length
@@ -92,6 +97,13 @@ EXECUTORS = ('events', 'single')
 _ROS_TYPES = {'bool': Parameter.Type.BOOL, 'int': Parameter.Type.INTEGER,
               'double': Parameter.Type.DOUBLE, 'string': Parameter.Type.STRING,
               'double_array': Parameter.Type.DOUBLE_ARRAY}
+
+
+def cycle_history_qos(depth: int) -> QoSProfile:
+    """Reliable, transient local, keep last ``depth``: the gait-cycle stream with history."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 def imu_qos(depth: int) -> QoSProfile:
@@ -392,6 +404,8 @@ class CycleMessage:
         False for a cycle with a gap or an overlong swing.
     features : (5,) array
         In ``FEATURE_NAMES`` order.
+    index : int
+        Index of the cycle (1, 2, ...).
 
     """
 
@@ -401,21 +415,22 @@ class CycleMessage:
     z_m: float
     valid: bool
     features: np.ndarray
+    index: int
 
 
 _CYCLE_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(CYCLE_FIELDS))
 
 
-def cycle_to_msg(cycle, frame_id: str) -> PointCloud2:
+def cycle_to_msg(cycle, frame_id: str, index: int) -> PointCloud2:
     """
-    PointCloud2 of one GaitCycle (layout in the module docstring).
+    PointCloud2 of one GaitCycle with its index (layout in the module docstring).
 
     A cycle with a non-finite value is sent as invalid (valid = 0), never classified.
     """
     position = [float(v) for v in cycle.pos_n]
     features = [float(v) for v in cycle.features]
     finite = all(math.isfinite(v) for v in position + features)
-    values = (*position, 1.0 if cycle.valid and finite else 0.0, *features)
+    values = (*position, 1.0 if cycle.valid and finite else 0.0, *features, float(index))
     msg = PointCloud2()
     msg.header.stamp = ns_to_stamp(cycle.stamp_ns)
     msg.header.frame_id = frame_id
@@ -448,9 +463,12 @@ def cycle_from_msg(msg) -> CycleMessage:
                          f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
                          f'{len(msg.data)} bytes')
     values = _CYCLE_STRUCT.unpack(bytes(msg.data))
+    index = values[-1]
+    if not (math.isfinite(index) and index == int(index) and 1 <= index < 2 ** 53):
+        raise InputError(f'gait_cycle message has cycle_index {index!r}, not a count')
     return CycleMessage(stamp_ns=stamp_to_ns(msg.header.stamp), x_m=values[0], y_m=values[1],
                         z_m=values[2], valid=values[3] == 1.0,
-                        features=np.array(values[4:], dtype=float))
+                        features=np.array(values[4:-1], dtype=float), index=int(index))
 
 
 def diagnostic_status(name: str, level: bytes, message: str, hardware_id: str,

@@ -27,22 +27,38 @@ Subscribes:
     ``imu_topic`` (parameter, default ``/imu/data``), sensor_msgs/Imu, sensor-data QoS with
     depth ``imu_qos_depth`` (200).
 Publishes:
-    ``gait_cycle``, sensor_msgs/PointCloud2, reliable, volatile, depth 100: one message per
-    gait cycle (invalid ones too, flagged), one point, fields x, y, z (raw INS height),
-    valid and the five features; layout in ``nodes/common.py``.
+    ``gait_cycle``, sensor_msgs/PointCloud2, reliable, transient local, depth
+    ``cycle_history`` (3600): one message per gait cycle (invalid ones too, flagged), one
+    point, fields x, y, z (raw INS height), valid, the five features and the cycle index;
+    layout in ``nodes/common.py``. A classifier that starts late gets the cycles it missed.
     ``foot_odom``, nav_msgs/Odometry, reliable, transient local, depth 1, at
     ``track_rate_hz`` (10 Hz): the latest EKF pose of the IMU, frame ``odom_frame_id``
     (REP 105 ``odom``), child frame the IMU frame; position covariance from the filter
     (isotropic, sigma^2 / 3 per axis), the rest unknown (0); twist not estimated (0).
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray, at ``diagnostics_rate_hz`` (1 Hz):
-    "imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps) and
-    "imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma).
+    "imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps, samples lost
+    in transit estimated from the stamps: WARN above 1 % per period) and
+    "imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma,
+    resumed or not, state file and failed writes).
 
 Parameters: every navigator and input-gate parameter of ``core/params.py`` (read once at start;
 the ``gate.*`` ones may change live) and the node-level ones listed there.
+
+Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``): after every gait cycle
+the node writes a ``NavigationState`` (position, heading, filter status, IMU identity = Imu
+topic and frame_id, cycle count) atomically with permissions 0600 to
+``<state_dir>/<node name>.state.json``. At the first accepted IMU message it decides: a state
+that is fresh, from the same IMU and written while the filter was healthy is resumed (the INS
+starts at the saved position and heading at its first stance, cycle indices carry on);
+otherwise it starts fresh. The log says which, and why. The motion while the node was down is
+unknown: at its first stance the resumed node publishes one invalid cycle per stride period
+(recent median) that passed since the saved cycle, at most ``MAX_OUTAGE_CYCLES``, so that a
+restart in the middle of a stair flight is bridged like any gap (``core/height.py``).
 """
 
+from collections import deque
 import sys
+import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from nav_msgs.msg import Odometry
@@ -50,16 +66,22 @@ import numpy as np
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, PointCloud2
 
-from .common import CYCLE_QOS, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
+from .common import cycle_history_qos, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
 from .common import ns_to_stamp, spin_node
 from ..core.errors import InputError
+from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
 from ..core.input_gate import WRONG_UNITS
 from ..core.navigator import FootNavigator
 from ..core.params import gate_params_from_dict, IMU_NODE, navigator_params_from_dict
+from ..core.state import NavigationState, resumable_state, save_state, state_file
 
 REJECT_LOG_PERIOD_S = 5.0
+LOSS_WARN_FRACTION = 0.01   # more lost samples than this (per diagnostics period) is a warning
+MAX_OUTAGE_CYCLES = 3       # a longer outage may hide a stop: its climb is not guessed
+STRIDE_PERIODS = 5          # recent cycle periods whose median is the stride period
+MAX_STRIDE_PERIOD_S = 3.0   # longer periods are stops, not strides
 
 
 class ImuNode(Node):
@@ -80,7 +102,8 @@ class ImuNode(Node):
     def __init__(self, **kwargs):
         super().__init__(IMU_NODE, **kwargs)
         values = declare_node_parameters(self, IMU_NODE)
-        self._navigator = FootNavigator(navigator_params_from_dict(values))
+        self._navigator_params = navigator_params_from_dict(values)
+        self._navigator = FootNavigator(self._navigator_params)
         self._gate = InputGate(gate_params_from_dict(values))
         self._live_parameters = LiveParameters(
             self, IMU_NODE, values, self._check_parameters, self._apply_parameters)
@@ -91,10 +114,23 @@ class ImuNode(Node):
         self._malformed = 0
         self._last_point = None
         self._published_point = None
-        self._period_start = (0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
+        self._period_start = (0, 0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
         self._period_start_ns = self.get_clock().now().nanoseconds
+        self._imu_topic = self.resolve_topic_name(values['imu_topic'])
+        self._persist = values['persist_state']
+        self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
+        self._state_max_age_s = values['state_max_age_s']
+        self._source_id = None        # set by the first accepted IMU message
+        self._resumed = False
+        self._state_write_errors = 0
+        self._cycle_index = 0
+        self._last_cycle_stamp_ns = None
+        self._periods_s = deque(maxlen=STRIDE_PERIODS)
+        self._resumed_from = None     # the resumed state until the first stance
+        self._outage_cycles = 0
 
-        self._cycle_pub = self.create_publisher(PointCloud2, 'gait_cycle', CYCLE_QOS)
+        self._cycle_pub = self.create_publisher(PointCloud2, 'gait_cycle',
+                                                cycle_history_qos(values['cycle_history']))
         self._odom_pub = self.create_publisher(Odometry, 'foot_odom', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
         # raw=True: the callback decodes the CDR bytes itself (imu_sample_from_cdr), which
@@ -104,9 +140,8 @@ class ImuNode(Node):
         if values['track_rate_hz'] > 0.0:
             self.create_timer(1.0 / values['track_rate_hz'], self._publish_track)
         self.create_timer(1.0 / values['diagnostics_rate_hz'], self._publish_diagnostics)
-        self.get_logger().info(
-            f"listening on {self.resolve_topic_name(values['imu_topic'])}; waiting for the "
-            'first stance to start navigating')
+        self.get_logger().info(f'listening on {self._imu_topic}; waiting for the first stance '
+                               'to start navigating')
 
     # -- parameters ----------------------------------------------------------------------------
 
@@ -141,11 +176,13 @@ class ImuNode(Node):
             self.get_logger().warning(f'IMU message refused: {reason} (counts in /diagnostics)',
                                       throttle_duration_sec=REJECT_LOG_PERIOD_S)
             return
+        if self._source_id is None:
+            self._resume_or_start_fresh(frame_id)
         was_initialised = self._navigator.status.initialised
         try:
             out = self._navigator.step(stamp_ns, np.array(acc_b), np.array(gyr_b))
         except InputError as err:
-            self._gate.rejected[WRONG_UNITS] += 1
+            self._gate.refuse_accepted(WRONG_UNITS)
             self.get_logger().error(f'IMU data refused by the navigator: {err}',
                                     throttle_duration_sec=REJECT_LOG_PERIOD_S)
             return
@@ -162,11 +199,89 @@ class ImuNode(Node):
             status = self._navigator.status
             self.get_logger().info(f'navigation started ({status.rate_hz:.1f} Hz IMU, frame '
                                    f'{frame_id!r})')
+            if self._resumed_from is not None:
+                self._publish_outage(point)
         if not self._imu_frame_id:
             self._imu_frame_id = frame_id
         self._last_point = point
         if cycle is not None:
-            self._cycle_pub.publish(cycle_to_msg(cycle, self._odom_frame_id))
+            self._publish_cycle(cycle)
+            if self._persist:
+                self._save_state(cycle)
+
+    def _publish_cycle(self, cycle):
+        self._cycle_index += 1
+        self._cycle_pub.publish(cycle_to_msg(cycle, self._odom_frame_id, self._cycle_index))
+        if self._last_cycle_stamp_ns is not None:
+            period_s = (cycle.stamp_ns - self._last_cycle_stamp_ns) * 1e-9
+            if period_s <= MAX_STRIDE_PERIOD_S:
+                self._periods_s.append(period_s)
+        self._last_cycle_stamp_ns = cycle.stamp_ns
+
+    def _stride_period_s(self) -> float:
+        return float(np.median(self._periods_s)) if self._periods_s else 1.0
+
+    def _publish_outage(self, point):
+        """Publish the cycles lost while the node was down as invalid ones (see above)."""
+        state, self._resumed_from = self._resumed_from, None
+        outage_s = (point.stamp_ns - state.stamp_ns) * 1e-9
+        lost = round(outage_s / state.stride_period_s) if outage_s > 0.0 else 0
+        if lost > MAX_OUTAGE_CYCLES:
+            self.get_logger().warning(
+                f'{outage_s:.1f} s since the saved cycle: the climb during the outage is '
+                'unknown and not counted; the height may be off')
+            return
+        for k in range(1, lost + 1):
+            stamp_ns = state.stamp_ns + (point.stamp_ns - state.stamp_ns) * k // (lost + 1)
+            self._publish_cycle(GaitCycle(stamp_ns, stamp_ns, point.pos_n,
+                                          np.zeros(N_FEATURES), valid=False))
+        self._outage_cycles += lost
+        self.get_logger().info(f'{outage_s:.1f} s since the saved cycle: {lost} cycles lost '
+                               'in the outage, published as invalid')
+
+    # -- persisted state -----------------------------------------------------------------------
+
+    def _resume_or_start_fresh(self, frame_id: str):
+        self._source_id = f'{self._imu_topic}:{frame_id}'
+        if not self._persist:
+            self.get_logger().info('starting fresh (persist_state is false)')
+            return
+        state, reason = resumable_state(self._state_path, NavigationState, self._source_id,
+                                        self._state_max_age_s)
+        if state is not None and not state.filter_ok:
+            state, reason = None, 'starting fresh: the saved state had an unhealthy filter'
+        if state is None:
+            self.get_logger().info(reason)
+            return
+        self._navigator = FootNavigator(self._navigator_params,
+                                        start_pos_n=(state.x_m, state.y_m, state.z_m),
+                                        start_heading_rad=state.heading_rad)
+        self._cycle_index = state.cycles
+        self._last_cycle_stamp_ns = state.stamp_ns
+        self._periods_s.append(state.stride_period_s)
+        self._resumed = True
+        self._resumed_from = state
+        self.get_logger().info(
+            f'{reason}: position ({state.x_m:.2f}, {state.y_m:.2f}, {state.z_m:.2f}) m, heading '
+            f'{np.degrees(state.heading_rad):.0f} deg, {state.cycles} cycles; navigation '
+            'resumes at the first stance')
+
+    def _save_state(self, cycle):
+        pos_n = cycle.pos_n
+        filter_ok = bool(np.all(np.isfinite(pos_n))) and not self._internal_errors
+        try:
+            save_state(self._state_path, NavigationState(
+                stamp_ns=cycle.stamp_ns, wall_time_s=time.time(), source_id=self._source_id,
+                x_m=float(pos_n[0]) if filter_ok else 0.0,
+                y_m=float(pos_n[1]) if filter_ok else 0.0,
+                z_m=float(pos_n[2]) if filter_ok else 0.0,
+                heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
+                filter_ok=filter_ok, cycles=self._cycle_index,
+                stride_period_s=self._stride_period_s()))
+        except (OSError, InputError) as err:
+            self._state_write_errors += 1
+            self.get_logger().error(f'cannot write the state file: {err}',
+                                    throttle_duration_sec=REJECT_LOG_PERIOD_S)
 
     # -- outputs -------------------------------------------------------------------------------
 
@@ -193,15 +308,17 @@ class ImuNode(Node):
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the diagnostics since the last call (rates over that period)."""
         gate, status = self._gate, self._navigator.status
-        received0, samples0, stance0, rejected0, flagged0 = self._period_start
+        received0, samples0, stance0, missing0, rejected0, flagged0 = self._period_start
         period_s = max(1e-9, (now_ns - self._period_start_ns) * 1e-9)
         rejected_now = {r: gate.rejected[r] - rejected0.get(r, 0) for r in REJECT_REASONS}
         flagged_now = {r: gate.flagged[r] - flagged0.get(r, 0) for r in FLAG_REASONS}
         received_now = self._received - received0
         samples_now = status.samples - samples0
         stance_now = status.stance_samples - stance0
+        missing_now = status.missing_samples - missing0
+        loss = missing_now / (samples_now + missing_now) if samples_now + missing_now else 0.0
         self._period_start = (self._received, status.samples, status.stance_samples,
-                              dict(gate.rejected), dict(gate.flagged))
+                              status.missing_samples, dict(gate.rejected), dict(gate.flagged))
         self._period_start_ns = now_ns
 
         hardware_id = self._imu_frame_id or 'imu'
@@ -213,8 +330,9 @@ class ImuNode(Node):
         elif sum(rejected_now.values()):
             refused = ', '.join(f'{n} {r}' for r, n in rejected_now.items() if n)
             level, message = DiagnosticStatus.WARN, f'refused: {refused}'
-        elif flagged_now[GAP] or flagged_now[SATURATED]:
-            level, message = DiagnosticStatus.WARN, (f'{flagged_now[GAP]} gaps, '
+        elif flagged_now[GAP] or flagged_now[SATURATED] or loss > LOSS_WARN_FRACTION:
+            level, message = DiagnosticStatus.WARN, (f'{100 * loss:.1f} % of samples lost, '
+                                                     f'{flagged_now[GAP]} gaps, '
                                                      f'{flagged_now[SATURATED]} saturated')
         else:
             level, message = DiagnosticStatus.OK, 'ok'
@@ -222,6 +340,8 @@ class ImuNode(Node):
                   'accepted': gate.accepted, 'rejected': gate.rejected_total}
         values.update({f'rejected_{r}': gate.rejected[r] for r in REJECT_REASONS})
         values.update({f'{r}_count': gate.flagged[r] for r in FLAG_REASONS})
+        values['missing_samples'] = status.missing_samples
+        values['loss_fraction'] = loss
         values['malformed'] = self._malformed
         values['units_latched'] = gate.units_latched
         values['internal_errors'] = self._internal_errors
@@ -230,6 +350,9 @@ class ImuNode(Node):
 
         if self._internal_errors:
             level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
+        elif self._state_write_errors:
+            level, message = DiagnosticStatus.WARN, (f'{self._state_write_errors} failed '
+                                                     'state writes')
         elif not status.initialised:
             level, message = DiagnosticStatus.WARN, 'waiting for the first stance'
         else:
@@ -239,7 +362,10 @@ class ImuNode(Node):
             'stance_fraction': stance_now / samples_now if samples_now else 0.0,
             'samples': status.samples, 'cycles': status.cycles,
             'invalid_cycles': status.invalid_cycles, 'gaps': status.gaps,
-            'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m}
+            'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m,
+            'resumed': self._resumed, 'outage_cycles': self._outage_cycles,
+            'state_file': str(self._state_path) if self._persist else '',
+            'state_write_errors': self._state_write_errors}
         statuses.append(diagnostic_status('imu_node: foot navigator', level, message,
                                           hardware_id, nav_values))
         msg = DiagnosticArray(status=statuses)

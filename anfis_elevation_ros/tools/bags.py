@@ -36,7 +36,7 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
-from rosbags.rosbag2 import Reader, ReaderError, StoragePlugin, Writer, WriterError
+from rosbags.rosbag2 import Reader, StoragePlugin, Writer, WriterError
 from rosbags.typesys import get_typestore, Stores
 
 from ..core.errors import InputError
@@ -47,8 +47,11 @@ BAG_VERSION = 9                  # rosbag2 metadata version written by Jazzy
 STORAGES = {'sqlite3': StoragePlugin.SQLITE3, 'mcap': StoragePlugin.MCAP}
 _CDR_LE = b'\x00\x01\x00\x00'    # encapsulation header: plain CDR, little endian
 _N_DOUBLES = 37                  # orientation 4 + covariance 9 + 2 x (vector 3 + covariance 9)
-_READ_ERRORS = (ReaderError, EOFError, ValueError, KeyError, IndexError, UnicodeDecodeError)
 _TYPESTORE = []
+# Reading a damaged bag, rosbags raises whatever its layers hit: ReaderError, SerdeError, the
+# sqlite errors of apsw, struct.error, OverflowError or MemoryError for a garbled length,
+# TypeError for a garbled metadata.yaml, ... Around the calls into rosbags that read a file or
+# decode its bytes, every exception therefore means a bag that cannot be read (InputError).
 
 
 def typestore():
@@ -128,7 +131,7 @@ def _decode_imu(raw: list) -> ImuRecording | None:
     (the caller then falls back to rosbags).
     """
     length = len(raw[0])
-    if any(len(r) != length for r in raw):
+    if length < 16 or any(len(r) != length for r in raw):
         return None
     buf = np.frombuffer(b''.join(raw), dtype=np.uint8).reshape(len(raw), length)
     if np.any(buf[:, :4] != np.frombuffer(_CDR_LE, dtype=np.uint8)):
@@ -138,7 +141,8 @@ def _decode_imu(raw: list) -> ImuRecording | None:
         return None
     frame_bytes = buf[0, 16:16 + string_len - 1].tobytes()
     if (_imu_layout(frame_bytes) != (length, length - 8 * _N_DOUBLES)
-            or np.any(buf[:, 12:16 + string_len] != buf[0, 12:16 + string_len])):
+            or np.any(buf[:, 12:16 + string_len] != buf[0, 12:16 + string_len])
+            or not _is_utf8(frame_bytes)):
         return None
     sec = buf[:, 4:8].copy().view('<i4')[:, 0].astype(np.int64)
     nanosec = buf[:, 8:12].copy().view('<u4')[:, 0].astype(np.int64)
@@ -149,13 +153,34 @@ def _decode_imu(raw: list) -> ImuRecording | None:
                         frame_id=frame_bytes.decode('utf-8'))
 
 
+def _one_line(err: Exception) -> str:
+    """Return 'ErrorType: message' on one line (rosbags quotes multi-line YAML errors)."""
+    return f'{type(err).__name__}: ' + ' '.join(str(err).split())
+
+
+def _is_utf8(data: bytes) -> bool:
+    try:
+        data.decode('utf-8')
+    except UnicodeDecodeError:
+        return False
+    return True
+
+
+def _deserialize(data: bytes, msgtype: str):
+    """Deserialise one CDR message with rosbags; InputError for bytes that are not one."""
+    try:
+        return typestore().deserialize_cdr(data, msgtype)
+    except Exception as err:   # noqa: B902 see above: rosbags raises many kinds on bad bytes
+        raise InputError(f'cannot decode a {msgtype} message (corrupt message?): '
+                         f'{_one_line(err)}') from None
+
+
 def _deserialize_imu(raw: list) -> ImuRecording:
     """Decode Imu messages one by one with rosbags (any valid CDR)."""
-    store = typestore()
     frames = Counter()
     rows = []
     for data in raw:
-        msg = store.deserialize_cdr(data, IMU_MSGTYPE)
+        msg = _deserialize(data, IMU_MSGTYPE)
         frames[msg.header.frame_id] += 1
         stamp, w, f = msg.header.stamp, msg.angular_velocity, msg.linear_acceleration
         rows.append((stamp.sec, stamp.nanosec, f.x, f.y, f.z, w.x, w.y, w.z))
@@ -184,9 +209,9 @@ def _open_reader(path) -> Reader:
     try:
         reader = Reader(path)
         reader.open()
-    except _READ_ERRORS as err:
+    except Exception as err:   # noqa: B902 see above: rosbags raises many kinds on bad files
         raise InputError(f'cannot read bag {str(path)!r} (not a rosbag2 bag, or corrupt or '
-                         f'truncated): {err}') from None
+                         f'truncated): {_one_line(err)}') from None
     return reader
 
 
@@ -198,9 +223,9 @@ def _bag_messages(reader: Reader, connections, path):
         for item in reader.messages(connections=connections):
             count += 1
             yield item
-    except _READ_ERRORS as err:
+    except Exception as err:   # noqa: B902 see above: rosbags raises many kinds on bad files
         raise InputError(f'bag {str(path)!r} is corrupt or truncated after {count} messages: '
-                         f'{err}') from None
+                         f'{_one_line(err)}') from None
     if expected and count != expected:
         raise InputError(f'bag {str(path)!r} is truncated: read {count} of the {expected} '
                          'messages its metadata lists')
@@ -252,9 +277,8 @@ def read_imu_bag(path, topic: str | None = None) -> ImuRecording:
     if recording is None:
         try:
             recording = _deserialize_imu(raw)
-        except _READ_ERRORS + (AssertionError,) as err:
-            raise InputError(f'bag {str(path)!r}: cannot decode {topic!r} as {IMU_MSGTYPE} '
-                             f'(corrupt message?): {err}') from None
+        except InputError as err:
+            raise InputError(f'bag {str(path)!r}, topic {topic!r}: {err}') from None
     return recording
 
 
@@ -279,10 +303,10 @@ def read_messages(path, topics=None):
                 raise InputError(f'topic {connection.topic!r} has type {connection.msgtype}, '
                                  'unknown to the ROS 2 Jazzy type store')
             try:
-                msg = store.deserialize_cdr(data, connection.msgtype)
-            except _READ_ERRORS + (AssertionError,) as err:
-                raise InputError(f'bag {str(path)!r}: corrupt {connection.msgtype} message on '
-                                 f'{connection.topic!r}: {err}') from None
+                msg = _deserialize(data, connection.msgtype)
+            except InputError as err:
+                raise InputError(f'bag {str(path)!r}, topic {connection.topic!r}: {err}') \
+                    from None
             yield connection.topic, stamp_ns, msg
     finally:
         reader.close()

@@ -105,9 +105,12 @@ def run_demo(args) -> int:
             raise InputError(f'{outputs} exists and is not a bag; choose another --out')
         shutil.rmtree(outputs)
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+    state_dir = out / 'state'   # a demo starts fresh and leaves ~/.ros alone
+    shutil.rmtree(state_dir, ignore_errors=True)
     command = [sys.executable, '-m', 'anfis_elevation_ros', 'run', '--record', str(outputs)]
     if args.params is not None:
         command += ['--params', str(args.params)]
+    command += ['--ros-args', '-p', f'state_dir:={state_dir}']
     _log(f'starting the nodes: {" ".join(command[1:])}')
     started = time.monotonic()
     proc = subprocess.Popen(command, stdin=subprocess.DEVNULL)

@@ -113,6 +113,10 @@ def _parse_stamp_ns(cell: str, factor_ns: int, where: str) -> int:
         raise InputError(f'{where}: time {cell!r} is not a number') from None
     if not value.is_finite():
         raise InputError(f'{where}: time {cell!r} is not a finite number')
+    # Checked before multiplying: 1e999999 s in ns would overflow the decimal context.
+    if value.copy_abs() >= _INT64_MAX:
+        raise InputError(f'{where}: time {cell} is too large for nanosecond stamps; check '
+                         '--time-unit')
     stamp_ns = int((value * factor_ns).to_integral_value(rounding=decimal.ROUND_HALF_EVEN))
     if stamp_ns < 0:
         raise InputError(f'{where}: time {cell} is negative; ROS stamps start at 0, shift the '

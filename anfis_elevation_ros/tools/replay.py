@@ -151,17 +151,15 @@ def cycle_row(cycle, tracker: ElevationTracker) -> tuple:
     """
     Classify one gait cycle and return its ``CYCLE_COLUMNS`` row.
 
-    An invalid cycle (gap or overlong swing) is not classified: mode 0, height unchanged,
-    exactly as the classifier node does.
+    An invalid cycle (gap or overlong swing) is not classified: mode 0, height unchanged
+    until the next valid cycle bridges it (``ElevationTracker.update``), exactly as the
+    classifier node does.
     """
     x_m, y_m, raw_height_m = (float(v) for v in cycle.pos_n)
-    if cycle.valid:
-        estimate = tracker.update(cycle.stamp_ns, cycle.features, x_m, y_m)
-        mode, anfis_output = estimate.mode, estimate.anfis_output
-    else:
-        mode, anfis_output = 0, float('nan')
-    return (cycle.stamp_ns, mode, tracker.height_m, x_m, y_m, tracker.floor, anfis_output,
-            int(cycle.valid), raw_height_m, *(float(f) for f in cycle.features))
+    estimate = tracker.update(cycle.stamp_ns, cycle.features, x_m, y_m, cycle.valid)
+    return (cycle.stamp_ns, estimate.mode, estimate.height_m, x_m, y_m, estimate.floor,
+            estimate.anfis_output, int(cycle.valid), raw_height_m,
+            *(float(f) for f in cycle.features))
 
 
 def write_csv(path: Path, columns, rows, integer_columns=()) -> None:
