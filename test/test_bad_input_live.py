@@ -272,7 +272,7 @@ def test_random_message_loss_is_reported(live, clean):
             if r >= 0.1]
     run = live(overrides={'diagnostics_rate_hz': 0.1}).feed(clean_messages(kept))
     run.imu._publish_diagnostics()     # one period spanning the whole input
-    run.spin_until(lambda: float(run.listener.diagnostic_value(IMU_INPUT, 'loss_fraction'))
+    run.spin_until(lambda: float(run.listener.diagnostic_value(IMU_INPUT, 'loss_fraction', 0))
                    > 0.0)
     level, message, values = run.listener.diagnostics[IMU_INPUT]
     lost = len(samples) - len(kept)      # (a few are lost before navigation starts: not seen)
