@@ -22,11 +22,13 @@ more than half a step. It is a model with a known answer, independent of trainin
 packaged default is trained separately and may change).
 """
 
+from contextlib import contextmanager
 import os
 from pathlib import Path
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
@@ -136,6 +138,29 @@ class NodesProcess:
     def __exit__(self, *exc):
         self.stop()
         self._log.close()
+
+
+@contextmanager
+def listening():
+    """Start rclpy and a CycleListener spun in a background thread; shut both down after."""
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+
+    from anfis_elevation_ros.tools.ros_io import CycleListener
+
+    rclpy.init()
+    executor = SingleThreadedExecutor()
+    listener = CycleListener()
+    executor.add_node(listener)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    try:
+        yield listener
+    finally:
+        executor.shutdown()
+        listener.destroy_node()
+        rclpy.try_shutdown()
+        thread.join(timeout=5.0)
 
 
 def wait_for(condition, timeout_s: float, period_s: float = 0.05) -> bool:

@@ -29,12 +29,9 @@ import csv
 import subprocess
 
 from anfis_elevation_ros.tools.bags import read_imu_bag, write_imu_bag
-from anfis_elevation_ros.tools.ros_io import CycleListener
 from live_support import cli, cli_env, NodesProcess, PACKAGE_ROOT, SAMPLE_BAG, truth_floors
-from live_support import wait_for, write_linear_model, write_params
+from live_support import listening, wait_for, write_linear_model, write_params
 import pytest
-import rclpy
-from rclpy.executors import SingleThreadedExecutor
 
 PLAY_MAX_RATE_HZ = 1000.0
 IMU_INPUT = 'imu_node: IMU input'
@@ -54,19 +51,8 @@ def workspace(tmp_path_factory):
 @pytest.fixture(scope='module')
 def listener():
     """Listen to the outputs with rclpy, spun in a background thread."""
-    import threading
-
-    rclpy.init()
-    executor = SingleThreadedExecutor()
-    node = CycleListener()
-    executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
-    yield node
-    executor.shutdown()
-    node.destroy_node()
-    rclpy.try_shutdown()
-    thread.join(timeout=5.0)
+    with listening() as node:
+        yield node
 
 
 def offline_cycles(bag, params, out_dir):

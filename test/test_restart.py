@@ -44,10 +44,9 @@ from anfis_elevation_ros.core.state import state_file
 from anfis_elevation_ros.tools.bags import read_imu_bag, write_imu_bag
 from anfis_elevation_ros.tools.replay import replay_recording
 from live_support import cli_env, FLOOR_HEIGHT_M, PACKAGE_ROOT, wait_for
-from live_support import write_linear_model, write_params
+from live_support import listening, write_linear_model, write_params
 import numpy as np
 import pytest
-import rclpy
 
 STEP_M = 0.15
 RATE_HZ = 100.0
@@ -135,28 +134,16 @@ class NodeProcess:
 
 @pytest.fixture
 def ros(walk):
-    """Rclpy, a player and a listener in this process, spun by a background executor."""
-    from threading import Thread
+    """Rclpy, a listener spun in the background and a player in this process; node processes."""
+    from anfis_elevation_ros.tools.ros_io import ImuPlayer
 
-    from anfis_elevation_ros.tools.ros_io import CycleListener, ImuPlayer
-    from rclpy.executors import SingleThreadedExecutor
-
-    rclpy.init()
-    executor = SingleThreadedExecutor()
-    listener = CycleListener()
-    player = ImuPlayer(walk['recording'])
-    executor.add_node(listener)
-    thread = Thread(target=executor.spin, daemon=True)
-    thread.start()
-    processes = []
-    yield {'listener': listener, 'player': player, 'processes': processes}
-    for proc in processes:
-        proc.stop()
-    executor.shutdown()
-    for node in (listener, player):
-        node.destroy_node()
-    rclpy.try_shutdown()
-    thread.join(timeout=5)
+    with listening() as listener:
+        player = ImuPlayer(walk['recording'])
+        processes = []
+        yield {'listener': listener, 'player': player, 'processes': processes}
+        for proc in processes:
+            proc.stop()
+        player.destroy_node()
 
 
 def play(player, recording, start: int, stop: int):

@@ -53,7 +53,8 @@ TEST_DIR = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(TEST_DIR))
 
 from live_support import cli, cli_env, NodesProcess, PACKAGE_ROOT  # noqa: E402, I100
-from live_support import wait_for, write_linear_model, write_params  # noqa: E402
+from live_support import listening, wait_for, write_linear_model  # noqa: E402
+from live_support import write_params  # noqa: E402
 
 LATENCY_P99_TARGET_MS = 20.0
 CPU_TARGET_PCT = 10.0
@@ -118,11 +119,6 @@ def main(argv=None) -> int:
     parser.add_argument('--json', type=Path, default=None, help='write the figures here')
     args = parser.parse_args(argv)
 
-    import rclpy
-    from rclpy.executors import SingleThreadedExecutor
-
-    from anfis_elevation_ros.tools.ros_io import CycleListener
-
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     os.environ.setdefault('ROS_DOMAIN_ID', str(os.getpid() % 101 + 1))
     work = Path(tempfile.mkdtemp(prefix='bench_live_'))
@@ -132,33 +128,23 @@ def main(argv=None) -> int:
     print(f'[bench] {args.scenario} walk at {args.rate_hz:g} Hz in {bag}; load average '
           f'{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores', file=sys.stderr)
 
-    rclpy.init()
-    executor = SingleThreadedExecutor()
-    listener = CycleListener()
-    executor.add_node(listener)
-    spinner = threading.Thread(target=executor.spin, daemon=True)
-    spinner.start()
-    try:
-        with NodesProcess(params, work / 'run.log', ('--executor', args.executor)) as nodes:
-            if not wait_for(lambda: listener.count_publishers('/elevation') >= 1, 30.0):
-                sys.exit(f'the nodes did not start:\n{nodes.log()}')
-            sampler = CpuSampler(nodes.proc.pid)
-            sampler.start()
-            play = subprocess.run(cli('play', bag, '--rate', 1, '--log-publish', publish_log,
-                                      '--linger-s', 1.0, '--wait-s', 30),
-                                  env=cli_env(), cwd=PACKAGE_ROOT, capture_output=True,
-                                  text=True)
-            if play.returncode != 0:
-                sys.exit(f'play failed:\n{play.stderr}')
-            published = np.loadtxt(publish_log, delimiter=',', skiprows=1, dtype=np.int64,
-                                   ndmin=2)
-            time.sleep(1.5)                               # one more diagnostics message
-            sampler.stop()
-            code = nodes.stop()
-    finally:
-        executor.shutdown()
-        listener.destroy_node()
-        rclpy.try_shutdown()
+    with listening() as listener, \
+            NodesProcess(params, work / 'run.log', ('--executor', args.executor)) as nodes:
+        if not wait_for(lambda: listener.count_publishers('/elevation') >= 1, 30.0):
+            sys.exit(f'the nodes did not start:\n{nodes.log()}')
+        sampler = CpuSampler(nodes.proc.pid)
+        sampler.start()
+        play = subprocess.run(cli('play', bag, '--rate', 1, '--log-publish', publish_log,
+                                  '--linger-s', 1.0, '--wait-s', 30),
+                              env=cli_env(), cwd=PACKAGE_ROOT, capture_output=True,
+                              text=True)
+        if play.returncode != 0:
+            sys.exit(f'play failed:\n{play.stderr}')
+        published = np.loadtxt(publish_log, delimiter=',', skiprows=1, dtype=np.int64,
+                               ndmin=2)
+        time.sleep(1.5)                               # one more diagnostics message
+        sampler.stop()
+        code = nodes.stop()
 
     publish_ns = dict(zip(published[:, 0].tolist(), published[:, 1].tolist()))
     latencies_ms = np.array([(received - publish_ns[stamp]) * 1e-6
