@@ -140,6 +140,16 @@ class NodesProcess:
         self._log.close()
 
 
+def play_at_recorded_pace(bag, publish_log) -> np.ndarray:
+    """Play a bag with ``play`` at its recorded pace; return the (stamp_ns, publish_ns) log."""
+    play = subprocess.run(cli('play', bag, '--rate', 1, '--log-publish', publish_log,
+                              '--linger-s', 1.0, '--wait-s', 30),
+                          env=cli_env(), cwd=PACKAGE_ROOT, capture_output=True, text=True)
+    if play.returncode != 0:
+        raise RuntimeError(f'play failed:\n{play.stderr}')
+    return np.loadtxt(publish_log, delimiter=',', skiprows=1, dtype=np.int64, ndmin=2)
+
+
 @contextmanager
 def listening():
     """Start rclpy and a CycleListener spun in a background thread; shut both down after."""

@@ -53,8 +53,8 @@ TEST_DIR = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(TEST_DIR))
 
 from live_support import cli, cli_env, NodesProcess, PACKAGE_ROOT  # noqa: E402, I100
-from live_support import listening, wait_for, write_linear_model  # noqa: E402
-from live_support import write_params  # noqa: E402
+from live_support import listening, play_at_recorded_pace, wait_for  # noqa: E402
+from live_support import write_linear_model, write_params  # noqa: E402
 
 LATENCY_P99_TARGET_MS = 20.0
 CPU_TARGET_PCT = 10.0
@@ -134,14 +134,7 @@ def main(argv=None) -> int:
             sys.exit(f'the nodes did not start:\n{nodes.log()}')
         sampler = CpuSampler(nodes.proc.pid)
         sampler.start()
-        play = subprocess.run(cli('play', bag, '--rate', 1, '--log-publish', publish_log,
-                                  '--linger-s', 1.0, '--wait-s', 30),
-                              env=cli_env(), cwd=PACKAGE_ROOT, capture_output=True,
-                              text=True)
-        if play.returncode != 0:
-            sys.exit(f'play failed:\n{play.stderr}')
-        published = np.loadtxt(publish_log, delimiter=',', skiprows=1, dtype=np.int64,
-                               ndmin=2)
+        published = play_at_recorded_pace(bag, publish_log)
         time.sleep(1.5)                               # one more diagnostics message
         sampler.stop()
         code = nodes.stop()
