@@ -24,10 +24,11 @@ Set before any test imports rclpy, and inherited by the nodes that tests start a
 
 A value already set in the environment is kept, except ROS_HOME: it points to a new temporary
 directory, so that the nodes' state files (``$ROS_HOME/anfis_elevation_ros``) and ROS logs of
-a test run never touch ~/.ros nor resume a state from another run.
+a test run never touch ~/.ros nor resume a state from another run; it is removed at the end.
 """
 
 import os
+import shutil
 import tempfile
 
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
@@ -39,3 +40,8 @@ def pytest_report_header(config):
     """Show the ROS 2 isolation settings in the header of the test run."""
     return (f"ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']} "
             f"ROS_DOMAIN_ID={os.environ['ROS_DOMAIN_ID']}")
+
+
+def pytest_unconfigure(config):
+    """Remove the test run's ROS_HOME."""
+    shutil.rmtree(os.environ['ROS_HOME'], ignore_errors=True)
