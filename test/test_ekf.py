@@ -74,15 +74,27 @@ def test_zupt_update_matches_the_scalar_kalman_gain():
     assert nis == pytest.approx(vel @ vel / (0.01 + 0.01 ** 2))
 
 
-def test_joseph_form_equals_the_standard_form_for_the_optimal_gain():
-    rng = np.random.default_rng(3)
+def test_zupt_update_is_the_textbook_joseph_form():
+    """
+    The rank-3 evaluation equals (I - K H) P (I - K H)^T + K R K^T with the full H.
+
+    And, for the optimal gain, the standard form P - K S K^T.
+    """
+    rng = np.random.default_rng(5)
     A = rng.normal(size=(15, 15))
     P = A @ A.T + np.eye(15)
     vel = rng.normal(size=3)
-    _, P_joseph, _ = ekf.zupt_correction(P, vel, 0.02)
-    S = P[ekf.VEL, ekf.VEL] + 0.02 ** 2 * np.eye(3)
-    K = P[:, ekf.VEL] @ np.linalg.inv(S)
-    assert np.allclose(P_joseph, P - K @ S @ K.T, atol=1e-10)
+    dx, P_new, nis = ekf.zupt_correction(P, vel, 0.02)
+    H = np.zeros((3, 15))
+    H[:, ekf.VEL] = np.eye(3)
+    R = 0.02 ** 2 * np.eye(3)
+    S = H @ P @ H.T + R
+    K = P @ H.T @ np.linalg.inv(S)
+    I_KH = np.eye(15) - K @ H
+    assert np.allclose(P_new, I_KH @ P @ I_KH.T + K @ R @ K.T, rtol=0.0, atol=1e-12)
+    assert np.allclose(P_new, P - K @ S @ K.T, rtol=0.0, atol=1e-10)
+    assert np.allclose(dx, K @ -vel, rtol=0.0, atol=1e-12)
+    assert nis == pytest.approx(vel @ np.linalg.solve(S, vel), rel=1e-12)
 
 
 def test_covariance_stays_symmetric_positive_definite():

@@ -53,8 +53,7 @@ POS, VEL, ACC_BIAS, ATT, GYR_BIAS = (slice(i, i + 3) for i in range(0, N_STATES,
 STATE_NAMES = tuple(f'{block}_{axis}' for block in ('pos', 'vel', 'acc_bias', 'att', 'gyr_bias')
                     for axis in 'xyz')
 
-H_ZUPT = np.zeros((3, N_STATES))
-H_ZUPT[:, VEL] = np.eye(3)
+_I3 = np.eye(3)
 
 
 @dataclass(frozen=True)
@@ -172,7 +171,7 @@ def relevelled_covariance(P: np.ndarray, params: EkfParams) -> np.ndarray:
 
 def predict_covariance(P: np.ndarray, phi: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """Covariance prediction, eq. (6): P(k) = Phi P(k-1) Phi^T + Q."""
-    return phi @ P @ phi.T + Q
+    return phi.dot(P).dot(phi.T) + Q
 
 
 def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
@@ -182,6 +181,10 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
     z = 0 - v_n (innovation, since the true velocity is zero), H = [0 I 0 0 0],
     K = P H^T (H P H^T + R)^-1, dx = K z, P+ = (I - K H) P (I - K H)^T + K R K^T (Joseph form,
     which keeps P symmetric positive definite in floating point).
+
+    H only selects the velocity block, so P H^T = P[:, dV] and the Joseph form is computed as
+    two rank-3 updates, A = P - K P[dV, :], P+ = A - (A[:, dV] - K R) K^T (R = sigma^2 I),
+    instead of two 15 x 15 products; the result is symmetrised against rounding.
 
     Parameters
     ----------
@@ -198,16 +201,22 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
     nis : normalised innovation squared z^T S^-1 z (chi-square, 3 dof, if the model holds).
 
     """
-    R = zupt_sigma_mps ** 2 * np.eye(3)
-    S = P[VEL, VEL] + R
-    S_inv = np.linalg.inv(S)
-    K = P[:, VEL] @ S_inv
+    variance = zupt_sigma_mps ** 2
+    S_inv = _inverse_3x3(P[VEL, VEL] + variance * _I3)
+    K = P[:, VEL].dot(S_inv)
     innovation = -vel_n
-    dx = K @ innovation
-    I_KH = np.eye(N_STATES)
-    I_KH[:, VEL] -= K
-    P = I_KH @ P @ I_KH.T + K @ R @ K.T
-    return dx, P, float(innovation @ S_inv @ innovation)
+    A = P - K.dot(P[VEL, :])
+    P = A - (A[:, VEL] - variance * K).dot(K.T)
+    return K.dot(innovation), 0.5 * (P + P.T), float(innovation.dot(S_inv).dot(innovation))
+
+
+def _inverse_3x3(S: np.ndarray) -> np.ndarray:
+    """Inverse of a 3 x 3 matrix by cofactors (np.linalg.inv costs more than the arithmetic)."""
+    (a, b, c), (d, e, f), (g, h, i) = S.tolist()
+    co_a, co_b, co_c = e * i - f * h, f * g - d * i, d * h - e * g
+    return np.array([[co_a, c * h - b * i, b * f - c * e],
+                     [co_b, a * i - c * g, c * d - a * f],
+                     [co_c, b * g - a * h, a * e - b * d]]) / (a * co_a + b * co_b + c * co_c)
 
 
 def apply_correction(q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx):
@@ -217,7 +226,7 @@ def apply_correction(q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx):
     p += dP, v += dV, ba += dba, bg += dbg, q_nb <- exp(dphi) * q_nb (navigation-side error).
     """
     q = quat_multiply(rotvec_to_quat(dx[ATT]), q_nb)
-    return (q / np.sqrt(q @ q), vel_n + dx[VEL], pos_n + dx[POS], acc_bias_b + dx[ACC_BIAS],
+    return (q / math.sqrt(q.dot(q)), vel_n + dx[VEL], pos_n + dx[POS], acc_bias_b + dx[ACC_BIAS],
             gyr_bias_b + dx[GYR_BIAS])
 
 

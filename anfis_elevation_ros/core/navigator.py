@@ -294,7 +294,7 @@ class FootNavigator:
         self._vel = vel_new
 
         # S3, eq. (5)-(6): covariance prediction.
-        phi = ekf.error_transition_matrix(C_mid, C_mid @ acc_mid, dt_s, self._phi)
+        phi = ekf.error_transition_matrix(C_mid, C_mid.dot(acc_mid), dt_s, self._phi)
         self._P = ekf.predict_covariance(self._P, phi, self._Q_per_s * dt_s)
 
         # S2, eq. (4): zero-velocity decision; S3, eq. (7): ZUPT in every stance sample.
@@ -330,7 +330,7 @@ class FootNavigator:
         self._relevel = False
 
     def _update_threshold(self, gyr_b):
-        if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b @ gyr_b)):
+        if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b.dot(gyr_b))):
             self._threshold = self._current_threshold()
 
     @property

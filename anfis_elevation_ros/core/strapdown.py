@@ -55,7 +55,7 @@ def update_attitude(q_nb: np.ndarray, gyr_b: np.ndarray, dt_s: float) -> np.ndar
 
     """
     q = quat_multiply(q_nb, rotvec_to_quat(gyr_b * dt_s))
-    return q / math.sqrt(q @ q)
+    return q / math.sqrt(q.dot(q))
 
 
 def update_velocity(vel_n: np.ndarray, C_nb_mid: np.ndarray, acc_b: np.ndarray, dt_s: float,
@@ -77,7 +77,7 @@ def update_velocity(vel_n: np.ndarray, C_nb_mid: np.ndarray, acc_b: np.ndarray, 
         Local gravity magnitude g, m/s^2.
 
     """
-    acc_n = C_nb_mid @ acc_b
+    acc_n = C_nb_mid.dot(acc_b)
     acc_n[2] -= gravity_mps2
     return vel_n + acc_n * dt_s
 

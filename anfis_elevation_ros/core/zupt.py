@@ -44,6 +44,9 @@ import numpy as np
 from .errors import InputError
 from .frames import GRAVITY_MPS2
 
+REBUILD_SAMPLES = 256
+"""About how often ShoeDetector recomputes its running sums from its buffer, samples."""
+
 
 @dataclass(frozen=True)
 class ZuptParams:
@@ -236,10 +239,11 @@ class ShoeDetector:
     Per-sample SHOE detector over a trailing window, eq. (4) from running sums.
 
     ``update(acc_b, gyr_b)`` returns T_k of the window ending at the new sample, or None while
-    the first window fills. The sums are rebuilt from the ring buffer each time it wraps, so
-    rounding errors cannot accumulate over a long shift. ``gravity_mps2`` is the g of eq. (4);
-    the navigator sets it to the magnitude the sensor reads at rest, so that an accelerometer
-    scale or bias error along gravity does not lift the statistic of every stance.
+    the first window fills. The sums are rebuilt from the ring buffer every ``REBUILD_SAMPLES``
+    or so (a whole number of windows), so rounding errors cannot accumulate over a long
+    shift. ``gravity_mps2`` is the g of eq. (4); the navigator sets it to the magnitude the
+    sensor reads at rest, so that an accelerometer scale or bias error along gravity does not
+    lift the statistic of every stance.
     """
 
     def __init__(self, params: ZuptParams, rate_hz: float, gravity_mps2: float = GRAVITY_MPS2):
@@ -251,6 +255,7 @@ class ShoeDetector:
         self._acc = np.zeros((self.window, 3))
         self._gyr = np.zeros((self.window, 3))
         self._count = 0
+        self._rebuild_period = self.window * max(1, REBUILD_SAMPLES // self.window)
         self._sum_acc = [0.0, 0.0, 0.0]
         self._sum_acc_sq = 0.0
         self._sum_gyr_sq = 0.0
@@ -272,7 +277,7 @@ class ShoeDetector:
         self._acc[i] = acc_b
         self._gyr[i] = gyr_b
         self._count += 1
-        if i == self.window - 1:
+        if self._count % self._rebuild_period == 0:
             self._sum_acc = self._acc.sum(axis=0).tolist()
             self._sum_acc_sq = float(np.sum(self._acc ** 2))
             self._sum_gyr_sq = float(np.sum(self._gyr ** 2))
