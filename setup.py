@@ -28,10 +28,12 @@ from setuptools import setup
 
 PACKAGE_NAME = 'anfis_elevation_ros'
 
-# numpy: the core; PyYAML: config/params.yaml. Lower bounds are the versions of Ubuntu 24.04
-# (ROS 2 Jazzy's platform), so an apt install satisfies them too.
+# numpy: the core; numba: compiles its per-sample step (core/jit.py); PyYAML:
+# config/params.yaml. Lower bounds are the versions of Ubuntu 24.04 (ROS 2 Jazzy's platform),
+# so an apt install satisfies them too; numba 0.58 is the oldest tested (test venv, numpy 1.26).
 INSTALL_REQUIRES = [
     'numpy>=1.26',
+    'numba>=0.58',
     'PyYAML>=6.0',
 ]
 
@@ -51,6 +53,8 @@ STANDALONE_REQUIRES = [
     'ros-nav-msgs==5.3.6',
     'rosbags==0.11.9',
     'numpy==2.4.6',
+    'numba==0.68.1',
+    'llvmlite==0.50.0',
     'PyYAML==6.0.3',
     'matplotlib==3.11.2',
     'scipy==1.17.1',

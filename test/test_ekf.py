@@ -97,6 +97,18 @@ def test_zupt_update_is_the_textbook_joseph_form():
     assert nis == pytest.approx(vel @ np.linalg.solve(S, vel), rel=1e-12)
 
 
+def test_covariance_prediction_equals_the_dense_products():
+    """The zero-skipping products give Phi P Phi^T + Q of the full matrices."""
+    rng = np.random.default_rng(6)
+    A = rng.normal(size=(15, 15))
+    P = A @ A.T
+    C = quat_to_dcm(rotvec_to_quat(rng.normal(size=3)))
+    phi = ekf.error_transition_matrix(C, rng.normal(size=3) * 20, 0.005)
+    Q = ekf.process_noise(ekf.EkfParams(), 0.005)
+    assert np.allclose(ekf.predict_covariance(P, phi, Q), phi @ P @ phi.T + Q,
+                       rtol=1e-13, atol=1e-13)
+
+
 def test_covariance_stays_symmetric_positive_definite():
     rng = np.random.default_rng(4)
     params = ekf.EkfParams()
@@ -134,7 +146,7 @@ def test_relevelled_covariance_resets_velocity_roll_and_pitch_only():
     A = rng.normal(size=(ekf.N_STATES, ekf.N_STATES))
     P = A @ A.T
     params = ekf.EkfParams()
-    R = ekf.relevelled_covariance(P, params)
+    R = ekf.relevelled_covariance(P, ekf.initial_covariance(params))
     reset = [3, 4, 5, 9, 10]                              # dV, roll, pitch
     kept = [i for i in range(ekf.N_STATES) if i not in reset]
     initial = np.diag(ekf.initial_covariance(params))

@@ -63,10 +63,10 @@ def test_window_is_a_duration_so_it_holds_across_rates():
 def test_adaptive_threshold_follows_the_power_law_within_bounds():
     params = ZuptParams(threshold=1e7, ref_peak_gyr_rps=6.0, intensity_exponent=4.0,
                         min_threshold=1e5, max_threshold=2e8)
-    assert adaptive_threshold(6.0, params) == pytest.approx(1e7)
-    assert adaptive_threshold(12.0, params) == pytest.approx(1.6e8)
-    assert adaptive_threshold(30.0, params) == 2e8
-    assert adaptive_threshold(0.1, params) == 1e5
+    assert adaptive_threshold(6.0, *params.threshold_law()) == pytest.approx(1e7)
+    assert adaptive_threshold(12.0, *params.threshold_law()) == pytest.approx(1.6e8)
+    assert adaptive_threshold(30.0, *params.threshold_law()) == 2e8
+    assert adaptive_threshold(0.1, *params.threshold_law()) == 1e5
 
 
 def test_intensity_rises_at_once_and_falls_with_the_median_block_peak():

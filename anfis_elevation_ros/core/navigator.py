@@ -17,7 +17,10 @@ The foot navigator: mechanisation, SHOE detection, ZUPT-EKF and gait cycles, per
 
 ``FootNavigator.step`` is the one pipeline behind the IMU node, offline replay and training:
 each call takes one IMU sample and returns the navigated sample and, on the sample that
-closes one, the gait cycle with its features.
+closes one, the gait cycle with its features. After start-up a sample goes through
+``navigation_step`` (S1-S3: the equation functions of strapdown, zupt and ekf, compiled with
+numba, see ``core/jit.py``, on the plain arrays whose layout the constants below name), then
+through ``GaitSegmenter`` (S4, Python: it works once per cycle).
 
 Start-up: the navigator estimates the sample rate from the first stamps (unless given), then
 waits for the first stance of at least ``init_stance_s`` (a firefighter may start walking at
@@ -36,23 +39,37 @@ reset as at start-up (``ekf.relevelled_covariance``); position, heading and bias
 """
 
 from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import math
+import time
 
 import numpy as np
 
 from . import ekf
 from .ekf import EkfParams
 from .errors import InputError
-from .frames import dcm_to_quat, dcm_to_rpy, GRAVITY_MPS2, level_attitude_from_gravity
-from .frames import quat_to_dcm
-from .frames import rpy_to_dcm
+from .frames import dcm_to_quat, dcm_to_rpy, GRAVITY_MPS2, level_attitude_from_gravity, mat_mul
+from .frames import mat_vec, quat_to_dcm, rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
+from .jit import jit
 from .strapdown import strapdown_step
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
-from .zupt import adaptive_threshold, GaitIntensity, ShoeDetector, ZuptParams
+from .zupt import adaptive_threshold, GaitIntensity, intensity_update, shoe_update, ShoeDetector
+from .zupt import ZuptParams
 
 RATE_ESTIMATE_SAMPLES = 16
+
+# The compiled step works on plain arrays (a numba function takes no objects); their layout:
+# the nominal state,
+Q_NB, VEL_N, POS_N, ACC_BIAS_B, GYR_BIAS_B = (
+    slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(13, 16))
+N_NOMINAL = 16
+# the navigator's integer state and counters,
+PREV_STAMP_NS, STILL_SAMPLES, MIN_STANCE_SAMPLES, RELEVEL, GAPS, MISSING_SAMPLES, \
+    STANCE_SAMPLES = range(7)
+# and its real-valued state and settings (THRESHOLD_LAW: the arguments of adaptive_threshold).
+THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE = range(8)
+THRESHOLD_LAW = slice(8, 13)
 
 
 @dataclass(frozen=True)
@@ -131,9 +148,94 @@ class NavigatorStatus:
     pos_sigma_m: float = 0.0
 
 
+@jit
+def attitude_at_rest(acc_mean_b: np.ndarray, yaw_rad: float) -> np.ndarray:
+    """Return q_nb with roll and pitch from the specific force at rest and the given yaw."""
+    C_nb = level_attitude_from_gravity(acc_mean_b)
+    return dcm_to_quat(mat_mul(rpy_to_dcm(0.0, 0.0, yaw_rad - dcm_to_rpy(C_nb)[2]), C_nb))
+
+
+@jit
+def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial, prev_sample,
+                    C_nb_out, counts, scalars, shoe_samples, shoe_sums, shoe_count, shoe_config,
+                    peaks, intensity_state, intensity_counts) -> int:
+    """
+    One IMU sample through S1-S3 (after start-up): mechanisation, detector, EKF.
+
+    Updates the arrays in place (layouts: the constants above, ``ShoeDetector`` and
+    ``GaitIntensity``) and writes the corrected attitude to ``C_nb_out``.
+
+    Returns
+    -------
+    1 if the sample is a stance sample, plus 2 if samples were missing before it (a gap).
+
+    """
+    dt_s = (stamp_ns - counts[PREV_STAMP_NS]) * 1e-9
+    counts[PREV_STAMP_NS] = stamp_ns
+    gap = dt_s > scalars[MAX_GAP_S]
+    if gap:
+        counts[GAPS] += 1
+        counts[RELEVEL] = 1
+    counts[MISSING_SAMPLES] += max(0, round(dt_s * scalars[RATE_HZ]) - 1)
+    dt_s = min(dt_s, scalars[MAX_DT_S])
+
+    # S1, eq. (1)-(3): bias-corrected interval means, trapezoidal integration.
+    acc_mid = 0.5 * (acc_b + prev_sample[0:3]) - nominal[ACC_BIAS_B]
+    gyr_mid = 0.5 * (gyr_b + prev_sample[3:6]) - nominal[GYR_BIAS_B]
+    prev_sample[0:3] = acc_b
+    prev_sample[3:6] = gyr_b
+    q_nb, vel_n, pos_n, C_mid = strapdown_step(nominal[Q_NB], nominal[VEL_N], nominal[POS_N],
+                                               acc_mid, gyr_mid, dt_s, scalars[GRAVITY])
+    acc_bias_b, gyr_bias_b = nominal[ACC_BIAS_B], nominal[GYR_BIAS_B]
+
+    # S3, eq. (5)-(6): covariance prediction.
+    phi = ekf.error_transition_matrix(C_mid, mat_vec(C_mid, acc_mid), dt_s, phi)
+    P[:, :] = ekf.predict_covariance(P, phi, Q_per_s * dt_s)
+
+    # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still).
+    still = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b, gyr_b) \
+        < scalars[THRESHOLD]
+    counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if still else 0
+    stance = counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES]
+    if scalars[ADAPTIVE] != 0.0 and intensity_update(
+            peaks, intensity_state, intensity_counts,
+            math.sqrt(gyr_b[0] ** 2 + gyr_b[1] ** 2 + gyr_b[2] ** 2)):
+        law = scalars[THRESHOLD_LAW]
+        scalars[THRESHOLD] = adaptive_threshold(intensity_state[0], law[0], law[1], law[2],
+                                                law[3], law[4])
+
+    # S3, eq. (7): ZUPT in every stance sample.
+    if stance:
+        counts[STANCE_SAMPLES] += 1
+        if counts[RELEVEL]:
+            # First stance after a gap: roll and pitch from gravity again, velocity zero.
+            yaw_rad = dcm_to_rpy(quat_to_dcm(q_nb))[2]
+            q_nb = attitude_at_rest(shoe_sums[0:3] / shoe_samples.shape[0] - acc_bias_b,
+                                    yaw_rad)
+            vel_n = np.zeros(3)
+            P[:, :] = ekf.relevelled_covariance(P, P_initial)
+            counts[RELEVEL] = 0
+        dx, P_new, nis = ekf.zupt_correction(P, vel_n, scalars[ZUPT_SIGMA])
+        P[:, :] = P_new
+        scalars[LAST_NIS] = nis
+        q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
+            q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
+
+    nominal[Q_NB] = q_nb
+    nominal[VEL_N] = vel_n
+    nominal[POS_N] = pos_n
+    nominal[ACC_BIAS_B] = acc_bias_b
+    nominal[GYR_BIAS_B] = gyr_bias_b
+    C_nb_out[:, :] = quat_to_dcm(q_nb)
+    return int(stance) + 2 * int(gap)
+
+
 class FootNavigator:
     """
     ZUPT-aided strapdown navigation of a foot IMU, one sample at a time.
+
+    Start-up runs here in Python; every sample after it goes through the compiled
+    ``navigation_step`` (S1-S3), then ``GaitSegmenter`` (S4).
 
     Parameters
     ----------
@@ -157,7 +259,7 @@ class FootNavigator:
     def __init__(self, params: NavigatorParams = None, start_pos_n=None,
                  start_heading_rad: float = 0.0):
         self.params = params or NavigatorParams()
-        self.status = NavigatorStatus()
+        self._status = NavigatorStatus()
         # Where navigation starts: the origin, or a resumed position and heading.
         self._start_pos_n = np.zeros(3) if start_pos_n is None else np.array(start_pos_n, float)
         self._start_heading_rad = float(start_heading_rad)
@@ -167,18 +269,23 @@ class FootNavigator:
         self._pending = deque(maxlen=RATE_ESTIMATE_SAMPLES)
         self._detector = None
         self._rest = None
-        self._prev = None
+        self._kernel_args = None
 
     # -- start-up ------------------------------------------------------------------------------
 
     def _start_detector(self, rate_hz):
         p = self.params
-        self.status.rate_hz = rate_hz
+        self._status.rate_hz = rate_hz
         self._detector = ShoeDetector(p.zupt, rate_hz, p.gravity_mps2)
         self._intensity = GaitIntensity(p.zupt, rate_hz)
-        self._threshold = self._current_threshold()
-        self._min_stance = p.zupt.min_stance_samples(rate_hz)
-        self._still_samples = 0
+        self._scalars = np.zeros(THRESHOLD_LAW.stop)
+        self._scalars[THRESHOLD_LAW] = p.zupt.threshold_law()
+        self._scalars[[GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE]] = (
+            p.gravity_mps2, rate_hz, p.max_gap_s, p.gait.max_swing_s, p.ekf.zupt_sigma_mps,
+            float(p.zupt.adaptive))
+        self._scalars[THRESHOLD] = self._current_threshold()
+        self._counts = np.zeros(STANCE_SAMPLES + 1, dtype=np.int64)
+        self._counts[MIN_STANCE_SAMPLES] = p.zupt.min_stance_samples(rate_hz)
         init_samples = int(round(p.init_stance_s * rate_hz))
         self._rest = deque(maxlen=max(self._detector.window, RATE_ESTIMATE_SAMPLES, init_samples))
 
@@ -188,23 +295,27 @@ class FootNavigator:
         check_rest_gravity(rest[:, 0])
         acc_mean = rest[:, 0].mean(axis=0)
         rest_g = float(np.linalg.norm(acc_mean))
-        C_nb = level_attitude_from_gravity(acc_mean)
-        C_nb = rpy_to_dcm(0.0, 0.0, self._start_heading_rad - dcm_to_rpy(C_nb)[2]) @ C_nb
         still = np.max(np.abs(rest[:, 1])) <= p.still_gyr_rps
-        self._q = dcm_to_quat(C_nb)
-        self._vel = np.zeros(3)
-        self._pos = self._start_pos_n.copy()
-        self._acc_bias = (rest_g - p.gravity_mps2) * acc_mean / rest_g
+        self._nominal = np.zeros(N_NOMINAL)
+        self._nominal[Q_NB] = attitude_at_rest(acc_mean, self._start_heading_rad)
+        self._nominal[POS_N] = self._start_pos_n
+        self._nominal[ACC_BIAS_B] = (rest_g - p.gravity_mps2) * acc_mean / rest_g
+        self._nominal[GYR_BIAS_B] = rest[:, 1].mean(axis=0) if still else 0.0
         self._detector.gravity_mps2 = rest_g
-        self._gyr_bias = rest[:, 1].mean(axis=0) if still else np.zeros(3)
         self._P = ekf.initial_covariance(p.ekf)
-        self._relevel = False
-        self._phi = np.eye(ekf.N_STATES)
-        self._Q_per_s = ekf.process_noise(p.ekf, 1.0)
+        self._C_nb = quat_to_dcm(self._nominal[Q_NB])
+        stamp_ns, acc_b, gyr_b = self._rest[-1]
+        self._counts[PREV_STAMP_NS] = stamp_ns
+        self._prev_sample = np.concatenate((acc_b, gyr_b))
+        d, i = self._detector, self._intensity
+        self._kernel_args = (
+            self._nominal, self._P, np.eye(ekf.N_STATES), ekf.process_noise(p.ekf, 1.0),
+            ekf.initial_covariance(p.ekf), self._prev_sample, self._C_nb, self._counts,
+            self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state, i.counts)
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
-        self._gait = GaitSegmenter(p.gait, self.status.rate_hz, MountingEstimator(p.gait, C_fb))
-        self._gait.update(self._rest[-1][0], True, self._pos, C_nb)
-        self.status.initialised = True
+        self._gait = GaitSegmenter(p.gait, self._status.rate_hz, MountingEstimator(p.gait, C_fb))
+        self._gait.update(stamp_ns, True, self._nominal[POS_N].copy(), self._C_nb.copy())
+        self._status.initialised = True
 
     def _step_uninitialised(self, stamp_ns, acc_b, gyr_b):
         if self._detector is None:
@@ -232,7 +343,7 @@ class FootNavigator:
         for sample in pending:
             statistic = self._detector.update(sample[1], sample[2])
             self._update_threshold(sample[2])
-            if statistic is None or statistic >= self._threshold:
+            if statistic is None or statistic >= self._scalars[THRESHOLD]:
                 self._rest.clear()
                 continue
             self._rest.append(sample)
@@ -242,8 +353,16 @@ class FootNavigator:
                 except InputError:
                     self._rest.clear()
                     raise
-                self._prev = sample
                 return
+
+    def _update_threshold(self, gyr_b):
+        if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b.dot(gyr_b))):
+            self._scalars[THRESHOLD] = self._current_threshold()
+
+    def _current_threshold(self):
+        zupt = self.params.zupt
+        return adaptive_threshold(self._intensity.value, *zupt.threshold_law()) \
+            if zupt.adaptive else zupt.threshold
 
     # -- navigation ----------------------------------------------------------------------------
 
@@ -269,86 +388,56 @@ class FootNavigator:
         InputError : data in the wrong units (found at start-up) or a rate out of range.
 
         """
-        self.status.samples += 1
-        if not self.status.initialised:
+        status = self._status
+        status.samples += 1
+        stamp_ns = int(stamp_ns)
+        # One memory layout and type, so the compiled step never needs another compilation.
+        acc_b = np.ascontiguousarray(acc_b, dtype=np.float64)
+        gyr_b = np.ascontiguousarray(gyr_b, dtype=np.float64)
+        if not status.initialised:
             self._step_uninitialised(stamp_ns, acc_b, gyr_b)
-            if not self.status.initialised:
+            if not status.initialised:
                 return None
-            return self._track_point(stamp_ns, True), None
-        p = self.params
-        prev_stamp_ns, prev_acc_b, prev_gyr_b = self._prev
-        self._prev = (stamp_ns, acc_b, gyr_b)
-        dt_s = (stamp_ns - prev_stamp_ns) * 1e-9
-        gap = dt_s > p.max_gap_s
-        if gap:
-            self.status.gaps += 1
-            self._relevel = True
-        self.status.missing_samples += max(0, round(dt_s * self.status.rate_hz) - 1)
-        dt_s = min(dt_s, p.gait.max_swing_s)
-
-        # S1, eq. (1)-(3): bias-corrected interval means, trapezoidal integration.
-        acc_mid = 0.5 * (acc_b + prev_acc_b) - self._acc_bias
-        gyr_mid = 0.5 * (gyr_b + prev_gyr_b) - self._gyr_bias
-        self._q, vel_new, self._pos, C_mid = strapdown_step(
-            self._q, self._vel, self._pos, acc_mid, gyr_mid, dt_s, p.gravity_mps2)
-        self._vel = vel_new
-
-        # S3, eq. (5)-(6): covariance prediction.
-        phi = ekf.error_transition_matrix(C_mid, C_mid.dot(acc_mid), dt_s, self._phi)
-        self._P = ekf.predict_covariance(self._P, phi, self._Q_per_s * dt_s)
-
-        # S2, eq. (4): zero-velocity decision; S3, eq. (7): ZUPT in every stance sample.
-        still = self._detector.update(acc_b, gyr_b) < self._threshold
-        self._still_samples = self._still_samples + 1 if still else 0
-        stance = self._still_samples >= self._min_stance
-        self._update_threshold(gyr_b)
-        if stance:
-            self.status.stance_samples += 1
-            if self._relevel:
-                self._relevel_at_rest()
-            dx, self._P, self.status.last_nis = ekf.zupt_correction(
-                self._P, self._vel, p.ekf.zupt_sigma_mps)
-            self._q, self._vel, self._pos, self._acc_bias, self._gyr_bias = ekf.apply_correction(
-                self._q, self._vel, self._pos, self._acc_bias, self._gyr_bias, dx)
-
+            return TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
+                              self._nominal[Q_NB].copy(), True), None
+        flags = navigation_step(stamp_ns, acc_b, gyr_b, *self._kernel_args)
+        stance = flags & 1 == 1
+        pos_n = self._nominal[POS_N].copy()
         # S4, eq. (8)-(12): gait cycles from the corrected track.
-        cycle = self._gait.update(stamp_ns, stance, self._pos, quat_to_dcm(self._q), gap)
+        cycle = self._gait.update(stamp_ns, stance, pos_n, self._C_nb.copy(), flags & 2 == 2)
         if cycle is not None:
-            self.status.cycles += 1
-            self.status.invalid_cycles += not cycle.valid
-            self.status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
-        return self._track_point(stamp_ns, stance), cycle
+            status.cycles += 1
+            status.invalid_cycles += not cycle.valid
+            status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
+        return TrackPoint(stamp_ns, pos_n, self._nominal[Q_NB].copy(), stance), cycle
 
-    def _relevel_at_rest(self):
-        """Roll and pitch from gravity, zero velocity, at the first stance after a gap."""
-        yaw = dcm_to_rpy(quat_to_dcm(self._q))[2]
-        C_nb = level_attitude_from_gravity(self._detector.mean_acc() - self._acc_bias)
-        C_nb = rpy_to_dcm(0.0, 0.0, yaw - dcm_to_rpy(C_nb)[2]) @ C_nb
-        self._q = dcm_to_quat(C_nb)
-        self._vel = np.zeros(3)
-        self._P = ekf.relevelled_covariance(self._P, self.params.ekf)
-        self._relevel = False
+    @property
+    def initialised(self) -> bool:
+        """Return True once start-up is done (the first stance was found)."""
+        return self._status.initialised
 
-    def _update_threshold(self, gyr_b):
-        if self.params.zupt.adaptive and self._intensity.update(math.sqrt(gyr_b.dot(gyr_b))):
-            self._threshold = self._current_threshold()
+    @property
+    def status(self) -> NavigatorStatus:
+        """Return a snapshot of the health figures."""
+        status = replace(self._status)
+        if status.initialised:
+            counts = self._counts
+            status.gaps = int(counts[GAPS])
+            status.missing_samples = int(counts[MISSING_SAMPLES])
+            status.stance_samples = int(counts[STANCE_SAMPLES])
+            status.last_nis = float(self._scalars[LAST_NIS])
+        return status
 
     @property
     def heading_rad(self) -> float:
         """Return the yaw of the IMU (ZYX Euler), rad; 0 before start-up."""
-        return float(dcm_to_rpy(quat_to_dcm(self._q))[2]) if self.status.initialised else 0.0
-
-    def _current_threshold(self):
-        zupt = self.params.zupt
-        return adaptive_threshold(self._intensity.value, zupt) if zupt.adaptive \
-            else zupt.threshold
-
-    def _track_point(self, stamp_ns, stance):
-        return TrackPoint(stamp_ns, self._pos.copy(), self._q.copy(), stance)
+        return float(dcm_to_rpy(self._C_nb)[2]) if self._status.initialised else 0.0
 
     def run(self, stamp_ns: np.ndarray, acc_b: np.ndarray, gyr_b: np.ndarray):
         """Batch form: a loop of ``step`` over arrays; returns (list of TrackPoint, cycles)."""
         check_gyro_rate(gyr_b)
+        acc_b = np.ascontiguousarray(acc_b, dtype=np.float64)
+        gyr_b = np.ascontiguousarray(gyr_b, dtype=np.float64)
         track, cycles = [], []
         for k in range(len(stamp_ns)):
             out = self.step(int(stamp_ns[k]), acc_b[k], gyr_b[k])
@@ -360,4 +449,22 @@ class FootNavigator:
         return track, cycles
 
 
-__all__ = ['FootNavigator', 'GaitCycle', 'NavigatorParams', 'NavigatorStatus', 'TrackPoint']
+def compile_navigator() -> float:
+    """
+    Compile the navigator's numba code now, or load it from the cache; return the seconds taken.
+
+    The first run on a machine compiles (about 20 s), later ones load the cache (well under a
+    second). A live node calls this before it subscribes, so no IMU message waits for it.
+    """
+    start = time.monotonic()
+    rate_hz = 200.0
+    n = int(rate_hz)                       # 1 s at rest: start-up, then the compiled step
+    acc_b = np.zeros((n, 3))
+    acc_b[:, 2] = GRAVITY_MPS2
+    FootNavigator(NavigatorParams(rate_hz=rate_hz)).run(
+        np.arange(n, dtype=np.int64) * int(1e9 / rate_hz), acc_b, np.zeros((n, 3)))
+    return time.monotonic() - start
+
+
+__all__ = ['attitude_at_rest', 'compile_navigator', 'FootNavigator', 'GaitCycle',
+           'navigation_step', 'NavigatorParams', 'NavigatorStatus', 'TrackPoint']

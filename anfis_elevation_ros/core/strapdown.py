@@ -37,9 +37,11 @@ import math
 
 import numpy as np
 
-from .frames import GRAVITY_MPS2, quat_multiply, quat_to_dcm, rotvec_to_quat
+from .frames import GRAVITY_MPS2, mat_vec, quat_multiply, quat_to_dcm, rotvec_to_quat
+from .jit import jit
 
 
+@jit
 def update_attitude(q_nb: np.ndarray, gyr_b: np.ndarray, dt_s: float) -> np.ndarray:
     """
     Attitude update, eq. (1): q_nb(k) = q_nb(k-1) * exp(omega_b dt / 2).
@@ -55,9 +57,10 @@ def update_attitude(q_nb: np.ndarray, gyr_b: np.ndarray, dt_s: float) -> np.ndar
 
     """
     q = quat_multiply(q_nb, rotvec_to_quat(gyr_b * dt_s))
-    return q / math.sqrt(q.dot(q))
+    return q / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
 
 
+@jit
 def update_velocity(vel_n: np.ndarray, C_nb_mid: np.ndarray, acc_b: np.ndarray, dt_s: float,
                     gravity_mps2: float = GRAVITY_MPS2) -> np.ndarray:
     """
@@ -77,17 +80,19 @@ def update_velocity(vel_n: np.ndarray, C_nb_mid: np.ndarray, acc_b: np.ndarray, 
         Local gravity magnitude g, m/s^2.
 
     """
-    acc_n = C_nb_mid.dot(acc_b)
+    acc_n = mat_vec(C_nb_mid, acc_b)
     acc_n[2] -= gravity_mps2
     return vel_n + acc_n * dt_s
 
 
+@jit
 def update_position(pos_n: np.ndarray, vel_n_old: np.ndarray, vel_n_new: np.ndarray,
                     dt_s: float) -> np.ndarray:
     """Position update, eq. (3): p_n(k) = p_n(k-1) + (v_n(k-1) + v_n(k)) dt / 2."""
     return pos_n + 0.5 * (vel_n_old + vel_n_new) * dt_s
 
 
+@jit
 def strapdown_step(q_nb, vel_n, pos_n, acc_b, gyr_b, dt_s, gravity_mps2=GRAVITY_MPS2):
     """
     Integrate one interval with eq. (1)-(3); acc_b and gyr_b are interval means.

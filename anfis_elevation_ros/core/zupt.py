@@ -35,7 +35,6 @@ References
 
 """
 
-from collections import deque
 from dataclasses import dataclass
 import math
 
@@ -43,6 +42,7 @@ import numpy as np
 
 from .errors import InputError
 from .frames import GRAVITY_MPS2
+from .jit import jit
 
 REBUILD_SAMPLES = 256
 """About how often ShoeDetector recomputes its running sums from its buffer, samples."""
@@ -113,6 +113,11 @@ class ZuptParams:
         """Consecutive still samples before a stance counts, at a sample rate (at least 1)."""
         return max(1, int(round(self.min_stance_s * rate_hz)))
 
+    def threshold_law(self) -> tuple:
+        """Return the arguments of ``adaptive_threshold`` after the intensity, in order."""
+        return (self.threshold, self.ref_peak_gyr_rps, self.intensity_exponent,
+                self.min_threshold, self.max_threshold)
+
 
 def _check_range(name, value, low, high):
     if not low <= value <= high:
@@ -179,24 +184,65 @@ def shoe_statistic_trailing(acc_b: np.ndarray, gyr_b: np.ndarray, window: int,
     return stat
 
 
-def adaptive_threshold(peak_gyr_rps: float, params: ZuptParams) -> float:
+@jit
+def adaptive_threshold(peak_gyr_rps: float, threshold: float, ref_peak_gyr_rps: float,
+                       intensity_exponent: float, min_threshold: float,
+                       max_threshold: float) -> float:
     """
     Threshold for the gait's intensity: gamma = clip(gamma_0 (m / m_0)^p, gamma_min, gamma_max).
 
-    m is the median of the peak angular-rate magnitudes of the last blocks. A faster gait never
-    stops the foot as completely, so its stance statistic stays higher: on the 36 pyshoe
-    VICON trials the per-trial optimal gamma grows with m as m^4.4 (log-log correlation
-    0.86), from slow walking (m = 3 rad/s, gamma about 1e6) to running (m = 11 rad/s, 1e8).
-    Peak specific force predicts as well there, but heel-strike spikes depend on the sensor
-    and its mounting (a NilsPod on the instep saturates at 16 g): the rate is steadier.
-    gamma_max = 2e8 keeps a gyro that reads spikes past 20 rad/s (x-io, 256 Hz) from
-    declaring whole swings stance; gamma_min = 3e6 keeps the first strides after a stand from
-    losing their stances. The block length and count (0.4 s, 5) and the bounds were chosen on
-    the same 36 trials, checked on the MaD and x-io stairs (README, accuracy).
+    m (``peak_gyr_rps``) is the median of the peak angular-rate magnitudes of the last blocks;
+    gamma_0, m_0, p, gamma_min, gamma_max are the ``ZuptParams`` fields ``threshold``,
+    ``ref_peak_gyr_rps``, ``intensity_exponent``, ``min_threshold``, ``max_threshold`` (pass
+    ``*params.threshold_law()``). A faster gait never stops the foot as completely, so its
+    stance statistic stays higher: on the 36 pyshoe VICON trials the per-trial optimal gamma
+    grows with m as m^4.4 (log-log correlation 0.86), from slow walking (m = 3 rad/s, gamma
+    about 1e6) to running (m = 11 rad/s, 1e8). Peak specific force predicts as well there, but
+    heel-strike spikes depend on the sensor and its mounting (a NilsPod on the instep
+    saturates at 16 g): the rate is steadier. gamma_max = 2e8 keeps a gyro that reads spikes
+    past 20 rad/s (x-io, 256 Hz) from declaring whole swings stance; gamma_min = 3e6 keeps the
+    first strides after a stand from losing their stances. The block length and count (0.4 s,
+    5) and the bounds were chosen on the same 36 trials, checked on the MaD and x-io stairs
+    (README, accuracy).
     """
-    gamma = params.threshold * (peak_gyr_rps / params.ref_peak_gyr_rps) ** \
-        params.intensity_exponent
-    return min(max(gamma, params.min_threshold), params.max_threshold)
+    gamma = threshold * (peak_gyr_rps / ref_peak_gyr_rps) ** intensity_exponent
+    return min(max(gamma, min_threshold), max_threshold)
+
+
+@jit
+def intensity_update(peaks: np.ndarray, state: np.ndarray, counts: np.ndarray,
+                     gyr_norm_rps: float) -> bool:
+    """
+    Add a sample's |w| to the gait intensity (see ``GaitIntensity``); True when m changed.
+
+    Parameters
+    ----------
+    peaks : (blocks,) array
+        Ring of the peak |w| of the last completed blocks, rad/s.
+    state : (2,) array
+        [m, peak of the current block], rad/s.
+    counts : (4,) int array
+        [samples in the current block, samples per block, completed blocks, next ring slot].
+    gyr_norm_rps : float
+        |w| of the new sample.
+
+    """
+    changed = False
+    if gyr_norm_rps > state[1]:
+        state[1] = gyr_norm_rps
+        if gyr_norm_rps > state[0]:
+            state[0] = gyr_norm_rps
+            changed = True
+    counts[0] += 1
+    if counts[0] < counts[1]:
+        return changed
+    peaks[counts[3]] = state[1]
+    counts[3] = (counts[3] + 1) % len(peaks)
+    counts[2] = min(counts[2] + 1, len(peaks))
+    counts[0] = 0
+    state[1] = 0.0
+    state[0] = np.median(peaks[:counts[2]])
+    return True
 
 
 class GaitIntensity:
@@ -206,32 +252,82 @@ class GaitIntensity:
     Blocks of fixed duration, not swings, so the measure does not depend on the detector it
     steers (a run that starts fast would otherwise never leave the start threshold). It rises
     at once with a faster sample and falls only with the median of completed blocks: the
-    first strides after a stand are the ones a low threshold would miss.
+    first strides after a stand are the ones a low threshold would miss. The state lives in
+    three arrays (``peaks``, ``state``, ``counts``) that the navigator's compiled step updates
+    through ``intensity_update``, as ``update`` does.
     """
 
     def __init__(self, params: ZuptParams, rate_hz: float):
-        self._peaks = deque(maxlen=params.intensity_blocks)
-        self._block_samples = max(1, int(round(params.intensity_block_s * rate_hz)))
-        self._count = 0
-        self._block_peak = 0.0
-        self.value = params.ref_peak_gyr_rps
+        self.peaks = np.zeros(params.intensity_blocks)
+        self.state = np.array([params.ref_peak_gyr_rps, 0.0])
+        block_samples = max(1, int(round(params.intensity_block_s * rate_hz)))
+        self.counts = np.array([0, block_samples, 0, 0], dtype=np.int64)
+
+    @property
+    def value(self) -> float:
+        """Return the intensity m, rad/s."""
+        return float(self.state[0])
 
     def update(self, gyr_norm_rps: float) -> bool:
         """Add a sample's |w|; return True when the intensity m changed."""
-        changed = False
-        if gyr_norm_rps > self._block_peak:
-            self._block_peak = gyr_norm_rps
-            if gyr_norm_rps > self.value:
-                self.value = gyr_norm_rps
-                changed = True
-        self._count += 1
-        if self._count < self._block_samples:
-            return changed
-        self._peaks.append(self._block_peak)
-        self._count = 0
-        self._block_peak = 0.0
-        self.value = float(np.median(self._peaks))
-        return True
+        return intensity_update(self.peaks, self.state, self.counts, float(gyr_norm_rps))
+
+
+@jit
+def shoe_update(samples: np.ndarray, sums: np.ndarray, count: np.ndarray, config: np.ndarray,
+                acc_b: np.ndarray, gyr_b: np.ndarray) -> float:
+    """
+    Add a sample to a trailing window and return its SHOE statistic T_k, eq. (4); NaN first.
+
+    Running sums over the ring buffer, with
+    sum_j ||a_j - g u||^2 = sum_j ||a_j||^2 - 2 g W ||abar|| + W g^2 (u = abar / ||abar||).
+
+    Parameters
+    ----------
+    samples : (W, 6) array
+        Ring buffer of [acc_b, gyr_b] of the window.
+    sums : (5,) array
+        [sum a_x, sum a_y, sum a_z, sum ||a||^2, sum ||w||^2] over the window.
+    count : (1,) int array
+        Samples added so far.
+    config : (3,) array
+        [g, 1 / sigma_a^2, 1 / sigma_w^2].
+    acc_b, gyr_b : (3,) array
+        The new sample, m/s^2 and rad/s.
+
+    Returns
+    -------
+    T_k of the window ending at the new sample, or NaN while the first window fills.
+
+    """
+    w = samples.shape[0]
+    i = count[0] % w
+    ax, ay, az = acc_b[0], acc_b[1], acc_b[2]
+    gx, gy, gz = gyr_b[0], gyr_b[1], gyr_b[2]
+    old = samples[i]
+    sums[0] += ax - old[0]
+    sums[1] += ay - old[1]
+    sums[2] += az - old[2]
+    sums[3] += ax * ax + ay * ay + az * az - old[0] * old[0] - old[1] * old[1] - old[2] * old[2]
+    sums[4] += gx * gx + gy * gy + gz * gz - old[3] * old[3] - old[4] * old[4] - old[5] * old[5]
+    samples[i, 0], samples[i, 1], samples[i, 2] = ax, ay, az
+    samples[i, 3], samples[i, 4], samples[i, 5] = gx, gy, gz
+    count[0] += 1
+    if count[0] % (w * max(1, REBUILD_SAMPLES // w)) == 0:
+        # Rebuilt from the buffer now and then, so rounding cannot accumulate over a shift.
+        sums[:] = 0.0
+        for j in range(w):
+            sums[0] += samples[j, 0]
+            sums[1] += samples[j, 1]
+            sums[2] += samples[j, 2]
+            sums[3] += samples[j, 0] ** 2 + samples[j, 1] ** 2 + samples[j, 2] ** 2
+            sums[4] += samples[j, 3] ** 2 + samples[j, 4] ** 2 + samples[j, 5] ** 2
+    if count[0] < w:
+        return np.nan
+    g = config[0]
+    norm_mean_acc = math.sqrt(sums[0] ** 2 + sums[1] ** 2 + sums[2] ** 2) / w
+    acc_term = sums[3] - 2.0 * g * w * norm_mean_acc + w * g * g
+    return (acc_term * config[1] + sums[4] * config[2]) / w
 
 
 class ShoeDetector:
@@ -243,53 +339,35 @@ class ShoeDetector:
     or so (a whole number of windows), so rounding errors cannot accumulate over a long
     shift. ``gravity_mps2`` is the g of eq. (4); the navigator sets it to the magnitude the
     sensor reads at rest, so that an accelerometer scale or bias error along gravity does not
-    lift the statistic of every stance.
+    lift the statistic of every stance. The state lives in arrays (``samples``, ``sums``,
+    ``count``, ``config``) that the navigator's compiled step updates through ``shoe_update``,
+    as ``update`` does.
     """
 
     def __init__(self, params: ZuptParams, rate_hz: float, gravity_mps2: float = GRAVITY_MPS2):
         self.params = params
         self.window = params.window_samples(rate_hz)
-        self._inv_var_acc = 1.0 / params.sigma_acc_mps2 ** 2
-        self._inv_var_gyr = 1.0 / params.sigma_gyr_rps ** 2
-        self.gravity_mps2 = gravity_mps2
-        self._acc = np.zeros((self.window, 3))
-        self._gyr = np.zeros((self.window, 3))
-        self._count = 0
-        self._rebuild_period = self.window * max(1, REBUILD_SAMPLES // self.window)
-        self._sum_acc = [0.0, 0.0, 0.0]
-        self._sum_acc_sq = 0.0
-        self._sum_gyr_sq = 0.0
+        self.samples = np.zeros((self.window, 6))
+        self.sums = np.zeros(5)
+        self.count = np.zeros(1, dtype=np.int64)
+        self.config = np.array([gravity_mps2, 1.0 / params.sigma_acc_mps2 ** 2,
+                                1.0 / params.sigma_gyr_rps ** 2])
+
+    @property
+    def gravity_mps2(self) -> float:
+        """Return g of eq. (4), m/s^2."""
+        return float(self.config[0])
+
+    @gravity_mps2.setter
+    def gravity_mps2(self, value: float):
+        self.config[0] = value
 
     def update(self, acc_b: np.ndarray, gyr_b: np.ndarray):
         """Add a sample; return T_k of the trailing window, or None before it is full."""
-        i = self._count % self.window
-        ax, ay, az = acc_b.tolist()
-        gx, gy, gz = gyr_b.tolist()
-        old_ax, old_ay, old_az = self._acc[i].tolist()
-        old_gx, old_gy, old_gz = self._gyr[i].tolist()
-        self._sum_acc[0] += ax - old_ax
-        self._sum_acc[1] += ay - old_ay
-        self._sum_acc[2] += az - old_az
-        self._sum_acc_sq += (ax * ax + ay * ay + az * az
-                             - old_ax * old_ax - old_ay * old_ay - old_az * old_az)
-        self._sum_gyr_sq += (gx * gx + gy * gy + gz * gz
-                             - old_gx * old_gx - old_gy * old_gy - old_gz * old_gz)
-        self._acc[i] = acc_b
-        self._gyr[i] = gyr_b
-        self._count += 1
-        if self._count % self._rebuild_period == 0:
-            self._sum_acc = self._acc.sum(axis=0).tolist()
-            self._sum_acc_sq = float(np.sum(self._acc ** 2))
-            self._sum_gyr_sq = float(np.sum(self._gyr ** 2))
-        if self._count < self.window:
-            return None
-        w = self.window
-        sx, sy, sz = self._sum_acc
-        norm_mean_acc = math.sqrt(sx * sx + sy * sy + sz * sz) / w
-        g = self.gravity_mps2
-        acc_term = self._sum_acc_sq - 2.0 * g * w * norm_mean_acc + w * g * g
-        return (acc_term * self._inv_var_acc + self._sum_gyr_sq * self._inv_var_gyr) / w
+        statistic = shoe_update(self.samples, self.sums, self.count, self.config,
+                                np.asarray(acc_b, dtype=float), np.asarray(gyr_b, dtype=float))
+        return None if math.isnan(statistic) else statistic
 
     def mean_acc(self) -> np.ndarray:
         """Return the mean specific force over the window, a-bar of eq. (4), m/s^2."""
-        return np.array(self._sum_acc) / self.window
+        return self.sums[:3] / self.window

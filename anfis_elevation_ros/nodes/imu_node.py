@@ -73,7 +73,7 @@ from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
 from ..core.input_gate import WRONG_UNITS
-from ..core.navigator import FootNavigator
+from ..core.navigator import compile_navigator, FootNavigator
 from ..core.params import gate_params_from_dict, IMU_NODE, navigator_params_from_dict
 from ..core.state import NavigationState, resumable_state, save_state, state_file
 
@@ -133,6 +133,9 @@ class ImuNode(Node):
                                                 cycle_history_qos(values['cycle_history']))
         self._odom_pub = self.create_publisher(Odometry, 'foot_odom', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
+        compile_s = compile_navigator()    # before subscribing: no message waits for numba
+        if compile_s > 1.0:
+            self.get_logger().info(f'navigator compiled in {compile_s:.0f} s (cached from now on)')
         # raw=True: the callback decodes the CDR bytes itself (imu_sample_from_cdr), which
         # halves the cost of a message compared with building the Python Imu object.
         self.create_subscription(Imu, values['imu_topic'], self._on_imu,
@@ -178,7 +181,7 @@ class ImuNode(Node):
             return
         if self._source_id is None:
             self._resume_or_start_fresh(frame_id)
-        was_initialised = self._navigator.status.initialised
+        was_initialised = self._navigator.initialised
         try:
             out = self._navigator.step(stamp_ns, np.array(acc_b), np.array(gyr_b))
         except InputError as err:
