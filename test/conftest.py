@@ -25,6 +25,9 @@ Set before any test imports rclpy, and inherited by the nodes that tests start a
 A value already set in the environment is kept, except ROS_HOME: it points to a new temporary
 directory, so that the nodes' state files (``$ROS_HOME/anfis_elevation_ros``) and ROS logs of
 a test run never touch ~/.ros nor resume a state from another run; it is removed at the end.
+
+Before the first test the navigator's numba code is compiled (about 20 s on a new checkout) or
+loaded from its cache, so that no node a test starts spends its start-up compiling.
 """
 
 import os
@@ -40,6 +43,12 @@ def pytest_report_header(config):
     """Show the ROS 2 isolation settings in the header of the test run."""
     return (f"ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']} "
             f"ROS_DOMAIN_ID={os.environ['ROS_DOMAIN_ID']}")
+
+
+def pytest_sessionstart(session):
+    """Compile the navigator (or load it from numba's cache) once, before any test."""
+    from anfis_elevation_ros.core.navigator import compile_navigator
+    compile_navigator()
 
 
 def pytest_unconfigure(config):
