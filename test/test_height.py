@@ -130,7 +130,7 @@ def test_floor_index_at_boundaries():
 
 @pytest.mark.parametrize('field, value', [
     ('step_height_m', 0.09), ('step_height_m', 0.26), ('step_height_m', float('nan')),
-    ('mode_threshold', -0.1), ('mode_threshold', 1.1), ('floor_height_m', 1.9),
+    ('mode_threshold', -1.1), ('mode_threshold', 1.1), ('floor_height_m', 1.9),
     ('floor_height_m', float('inf')), ('start_floor', 1.0), ('start_floor', True),
     ('start_height_m', float('nan')), ('step_height_m', '0.17')])
 def test_elevation_params_reject_out_of_range(field, value):
@@ -141,9 +141,23 @@ def test_elevation_params_reject_out_of_range(field, value):
 def test_elevation_params_defaults_and_limits():
     params = ElevationParams()
     assert (params.step_height_m, params.mode_threshold, params.floor_height_m,
-            params.start_floor, params.start_height_m) == (0.17, 0.5, 3.0, 0, 0.0)
+            params.start_floor, params.start_height_m) == (0.17, -1.0, 3.0, 0, 0.0)
     ElevationParams(step_height_m=0.10, mode_threshold=0.0, floor_height_m=2.0)
     ElevationParams(step_height_m=0.25, mode_threshold=1.0, start_floor=-2)
+
+
+def test_negative_mode_threshold_takes_the_models_own():
+    model = ScriptedModel([0.42, 0.42])
+    assert ElevationTracker(model, ElevationParams()).mode_threshold == 0.5    # none stored
+    model.metadata_ = {'mode_threshold': 0.4}
+    tracker = ElevationTracker(model, ElevationParams())
+    assert tracker.mode_threshold == 0.4
+    assert tracker.update(1, _features(0.16), 0.0, 0.0).mode == 1             # 0.42 >= 0.4
+    assert ElevationTracker(model, ElevationParams(mode_threshold=0.5)).update(
+        1, _features(0.16), 0.0, 0.0).mode == 0                                # the parameter
+    model.metadata_ = {'mode_threshold': 'high'}
+    with pytest.raises(ValueError, match='mode_threshold'):
+        ElevationTracker(model, ElevationParams())
 
 
 # ------------------------------------------------------------------------------ tracker

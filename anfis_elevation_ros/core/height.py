@@ -65,6 +65,9 @@ MAX_CYCLE_HEIGHT_CHANGE_M = 10.0
 MODE_UP, MODE_LEVEL, MODE_DOWN = 1, 0, -1
 """Values of the stair mode C of eq. 13."""
 
+DEFAULT_MODE_THRESHOLD = 0.5
+"""sigma_th for a model that stores none: the midpoint of the training targets -1 / 0 / +1."""
+
 
 def round_half_away(value):
     """
@@ -239,8 +242,10 @@ class ElevationParams:
     ----------
     step_height_m : stair step height K, m, in [0.10, 0.25]; 0.17 m is a typical building stair
         (most codes allow 0.15-0.19 m risers).
-    mode_threshold : sigma_th of eq. 13, in [0, 1]; with training targets -1 / 0 / +1 the midpoint
-        0.5 separates the classes.
+    mode_threshold : sigma_th of eq. 13, in [0, 1], or negative (the default) for the model's
+        own: the threshold the training tool chose by cross-validation, stored in the model's
+        metadata as ``mode_threshold`` (0.5, the midpoint of the targets -1 / 0 / +1, for a
+        model without one). So a retrained model brings its threshold along.
     floor_height_m : storey height H, m, >= 2.0; 3.0 m is a common storey.
     start_floor : floor of the start point (int).
     start_height_m : height of the start point above the start floor's reference, m.
@@ -248,14 +253,14 @@ class ElevationParams:
     """
 
     step_height_m: float = 0.17
-    mode_threshold: float = 0.5
+    mode_threshold: float = -1.0
     floor_height_m: float = 3.0
     start_floor: int = 0
     start_height_m: float = 0.0
 
     def __post_init__(self):
         _check_real('step_height_m', self.step_height_m, 0.10, 0.25)
-        _check_real('mode_threshold', self.mode_threshold, 0.0, 1.0)
+        _check_real('mode_threshold', self.mode_threshold, -1.0, 1.0)
         _check_real('floor_height_m', self.floor_height_m, 2.0)
         _check_real('start_height_m', self.start_height_m)
         start_floor = self.start_floor
@@ -290,6 +295,30 @@ class CycleEstimate:
     bridged_steps: int = 0
 
 
+def model_mode_threshold(model, params: ElevationParams) -> float:
+    """
+    Return sigma_th for a model: ``params.mode_threshold``, or the model's own if that is < 0.
+
+    The model's own is its metadata ``mode_threshold`` (the training tool's cross-validated
+    choice), else ``DEFAULT_MODE_THRESHOLD``.
+
+    Raises
+    ------
+    ValueError : the model's stored threshold is not a number in [0, 1].
+
+    """
+    if params.mode_threshold >= 0.0:
+        return float(params.mode_threshold)
+    metadata = getattr(model, 'metadata_', None)
+    threshold = metadata.get('mode_threshold', DEFAULT_MODE_THRESHOLD) \
+        if isinstance(metadata, dict) else DEFAULT_MODE_THRESHOLD
+    if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) \
+            or not 0.0 <= threshold <= 1.0:
+        raise ValueError(f'the model stores mode_threshold = {threshold!r}, not a number in '
+                         '[0, 1]; set elevation.mode_threshold explicitly or retrain')
+    return float(threshold)
+
+
 class ElevationTracker:
     """
     Height and floor from the features of successive gait cycles (eq. 13-14, step S8).
@@ -318,6 +347,7 @@ class ElevationTracker:
             raise ValueError(f'params must be ElevationParams, got {type(params).__name__}')
         self.model = model
         self.params = params
+        self.mode_threshold = model_mode_threshold(model, params)
         self.reset(height_m)
 
     def reset(self, height_m: Optional[float] = None):
@@ -399,7 +429,7 @@ class ElevationTracker:
             self.implausible_cycles += 1
             return self.update(stamp_ns, features, x_m, y_m, valid=False)
         output = float(self.model.predict(features[None, :])[0])
-        mode = stair_mode(output, self.params.mode_threshold)                            # eq. 13
+        mode = stair_mode(output, self.mode_threshold)                                   # eq. 13
         steps = quantised_step_count(mode, features[HEIGHT_CHANGE],
                                      self.params.step_height_m)                         # eq. 14
         bridged = 0

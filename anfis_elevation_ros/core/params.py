@@ -221,7 +221,9 @@ _DOCS = {
                                'samples confirm it, s.', 0.005, 3600.0, _LIVE),
     # ElevationParams
     'elevation.step_height_m': ('Stair step height K of eq. (14), m.', 0.10, 0.25, _LIVE),
-    'elevation.mode_threshold': ('Stair-mode threshold sigma_th of eq. (13).', 0.0, 1.0, _LIVE),
+    'elevation.mode_threshold': ('Stair-mode threshold sigma_th of eq. (13); negative: the '
+                                 "model's own (chosen in training, in its metadata).", -1.0, 1.0,
+                                 _LIVE),
     'elevation.floor_height_m': ('Storey height H, m.', 2.0, 20.0, _LIVE),
     'elevation.start_floor': ('Floor of the start point (changing it shifts the floor index).',
                               -100, 1000, _LIVE),

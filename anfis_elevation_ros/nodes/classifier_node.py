@@ -89,7 +89,6 @@ class ClassifierNode(Node):
         super().__init__(CLASSIFIER_NODE, **kwargs)
         values = declare_node_parameters(self, CLASSIFIER_NODE)
         self._model = load_model(values['model_path'])
-        self.get_logger().info(f"ANFIS model loaded from {model_file(values['model_path'])}")
         self._source_id = self.resolve_topic_name('gait_cycle')
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
@@ -97,8 +96,13 @@ class ClassifierNode(Node):
         if self._persist:
             state, reason = resumable_state(self._state_path, ElevationState, self._source_id,
                                             values['state_max_age_s'])
-        self._tracker = ElevationTracker(self._model, elevation_params_from_dict(values),
+        elevation = elevation_params_from_dict(values)
+        self._tracker = ElevationTracker(self._model, elevation,
                                          height_m=None if state is None else state.height_m)
+        self.get_logger().info(
+            f"ANFIS model loaded from {model_file(values['model_path'])}; sigma_th "
+            f'{self._tracker.mode_threshold:g} ('
+            f"{'the model' if elevation.mode_threshold < 0.0 else 'elevation.mode_threshold'})")
         self._resumed = state is not None
         self._last_stamp_ns = -1 if state is None else state.stamp_ns
         self._last_index = 0 if state is None else state.cycle_index
