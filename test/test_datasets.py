@@ -273,6 +273,40 @@ def test_hugadb_index_and_gyro_scale():
     # Clipped gyro: int16 full scale / 16.4 = 1998 deg/s, in rad/s (proves the gyro scale).
     rec, _ = datasets.load_hugadb(data_file('hugadb', clipped.file), 'right')
     assert np.abs(rec.gyr_b).max() == pytest.approx(math.radians(32768 / 16.4), rel=1e-6)
+    assert clipped.gyro_range_dps('right') == 250 and clipped.gyro_range_dps('left') == 2000
+    with pytest.raises(InputError, match='gyro_range_dps'):
+        datasets.load_hugadb(data_file('hugadb', clipped.file), 'right', gyro_range_dps=16.4)
+
+
+def quiet_and_walking_rates_dps(rec, activity):
+    """Return (quietest 1 s mean |w|, median |w| while walking), deg/s."""
+    rate = np.degrees(np.linalg.norm(rec.gyr_b, axis=1))
+    window = np.convolve(rate, np.ones(59) / 59, mode='valid')
+    return float(window.min()), float(np.median(rate[activity == datasets.HUGADB_WALKING]))
+
+
+def test_hugadb_flagged_gyros_are_250_dps_ones():
+    """
+    Read at 131 counts per deg/s, a flagged gyro looks like the unflagged ones; at 16.4 it cannot.
+
+    Subject 4 (both feet flagged) against subject 6 (both feet clean), same protocol: the
+    quietest second and the median rate of walking, read as +-250 and as +-2000 deg/s.
+    """
+    flagged = data_file('hugadb', 'HuGaDB_v1_various_04_04.txt')
+    clean = data_file('hugadb', 'HuGaDB_v1_various_06_04.txt')
+    for foot in ('left', 'right'):
+        quiet_ok, walk_ok = quiet_and_walking_rates_dps(*datasets.load_hugadb(clean, foot))
+        assert quiet_ok < 2.5 and 100.0 < walk_ok < 250.0
+        rec, activity = datasets.load_hugadb(flagged, foot)
+        quiet, walk = quiet_and_walking_rates_dps(rec, activity)
+        assert quiet > 8.0 and walk > 800.0
+        rec, activity = datasets.load_hugadb(flagged, foot, gyro_range_dps=250)
+        quiet, walk = quiet_and_walking_rates_dps(rec, activity)
+        assert quiet < 2.5 and 100.0 < walk < 250.0
+        # +-250 deg/s: the int16 rail is 250 deg/s, reached in every stride.
+        rail = np.abs(rec.gyr_b) >= math.radians(32767 / 131.0) * 0.999
+        assert np.abs(rec.gyr_b).max() <= math.radians(32768 / 131.0) * (1 + 1e-9)
+        assert 0.05 < np.mean(np.any(rail, axis=1)[activity == datasets.HUGADB_WALKING]) < 0.3
 
 
 @pytest.mark.parametrize('loader, max_deg', [

@@ -27,7 +27,7 @@ load_pyshoe_vicon(path)                    -> (ImuRecording, gt_pos (N, 3) m)
 load_pyshoe_reference(path)                -> PyshoeReference (pyshoe's optimal SHOE labels)
 load_mad_stairs(path, foot='left')         -> ImuRecording
 load_xio(path)                             -> ImuRecording
-load_hugadb(path, foot='right')            -> (ImuRecording, activity (N,) int)
+load_hugadb(path, foot='right', *, gyro_range_dps=2000) -> (ImuRecording, activity (N,) int)
 hugadb_index(data_dir=None)                -> list of HugadbIndexRow (file_index.csv)
 
 Sets, as found in the files (provenance: ``../shared/data/README.md``)
@@ -45,8 +45,11 @@ mad_stairs    NilsPod, 204.8 Hz, acc [m/s^2], gyr [deg/s], x forward, y left, z 
 xio_foot      x-IMU, 256 Hz (time = row index / 256; the packet number skips), gyr [deg/s],
               acc [g] (|g| reads ~0.97 g at rest), z up. Acc saturates at +-8 g.
 hugadb        six int16 IMUs, ~58.8 Hz nominal (no stamps), acc counts / 16384 = g (+-2 g,
-              saturates often), gyr counts / 16.4 = deg/s (+-2000 deg/s; clipped in the files
-              that ``file_index.csv`` marks ``rf_gyro_ok``/``lf_gyro_ok`` False). Foot z ~ up.
+              saturates often), gyr counts / 16.4 = deg/s (+-2000 deg/s) -- except the gyros
+              that ``file_index.csv`` marks ``rf_gyro_ok``/``lf_gyro_ok`` False ("Corrupted"
+              upstream): those were set to +-250 deg/s, counts / 131 = deg/s, and clip at
+              250 deg/s in 12-20 % of moving samples (see ``HUGADB_GYR_COUNTS_PER_DPS``).
+              Foot z ~ up.
 
 References
 ----------
@@ -90,7 +93,25 @@ XIO_RATE_HZ = 256.0
 #: HuGaDB has no stamps; 58.8 Hz is the rate implied by the authors' table (samples / seconds).
 HUGADB_RATE_HZ = 58.8
 HUGADB_ACC_COUNTS_PER_G = 16384.0
-HUGADB_GYR_COUNTS_PER_DPS = 16.4
+HUGADB_GYR_COUNTS_PER_DPS = {2000: 16.4, 250: 131.0}
+"""Gyro counts per deg/s of each full scale (deg/s) found in HuGaDB (MPU-6050/9250 settings).
+
+The gyros flagged not ok in ``file_index.csv`` ("Corrupted" upstream; every foot gyro of
+subjects 4 and 5, the right foot of 3 and 7, both feet of files 09_04-09_08) read counts / 131,
+the +-250 deg/s setting, not counts / 16.4. Read at 16.4 they make no sense: in the quietest
+second they show 9-23 deg/s where the other gyros show 1-2 deg/s, the median |w| of walking is
+over 1000 deg/s (other gyros about 150 deg/s), and the gyro-propagated gravity direction misses
+the accelerometer's at the next rest by 50-75 deg over unclipped stretches. At 131 the quiet
+rate is 1.4-2.0 deg/s, the walking median 130-180 deg/s and the miss 2-6 deg, as for the other
+gyros (test_datasets.py checks subjects 4 and 6); their p99 of 1998 'deg/s' is the
+int16 rail, 250 deg/s. A foot's pitch rate peaks at 400-600 deg/s, so these gyros clip in
+every swing (measured 2026-11: leave-one-subject-out accuracy of such feet 0.88 read at 131,
+0.31 read at 16.4, model of the unclipped feet; test/benchmarks/bench_hugadb_errors.py).
+"""
+HUGADB_GYR_RANGE_DPS = 2000
+"""Full scale of the unflagged gyros, deg/s."""
+HUGADB_CLIPPED_GYR_RANGE_DPS = 250
+"""Full scale of the gyros ``file_index.csv`` flags not ok, deg/s."""
 
 #: HuGaDB activity ids (README table 1 of the HuGaDB repository).
 HUGADB_ACTIVITIES = {
@@ -392,14 +413,17 @@ def load_xio(path, *, frame_id: str = 'imu_link') -> ImuRecording:
                              frame_id)
 
 
-def load_hugadb(path, foot: str = 'right', *, frame_id: str = 'imu_link'):
+def load_hugadb(path, foot: str = 'right', *, gyro_range_dps: int = HUGADB_GYR_RANGE_DPS,
+                frame_id: str = 'imu_link'):
     """
     Load the foot IMU of one HuGaDB v1 file and its per-sample activity labels.
 
     Tab-separated: three '#' lines (activities, activity ids, date), a column header
     (``acc_rf_x`` ... ``gyro_lt_z EMG_r EMG_l act``), then int16 counts. acc / 16384 = g,
-    gyro / 16.4 = deg/s. The files have no stamps: stamps assume the nominal 58.8 Hz
-    (the rate implied by the dataset's sample counts and durations), starting at 0.
+    gyro / 16.4 = deg/s (+-2000 deg/s), or gyro / 131 = deg/s for the +-250 deg/s gyros that
+    ``file_index.csv`` flags (``HugadbIndexRow.gyro_range_dps``). The files have no stamps:
+    stamps assume the nominal 58.8 Hz (the rate implied by the dataset's sample counts and
+    durations), starting at 0.
 
     Parameters
     ----------
@@ -407,6 +431,8 @@ def load_hugadb(path, foot: str = 'right', *, frame_id: str = 'imu_link'):
         The ``.txt`` file.
     foot : str
         'right' (columns ``*_rf_*``) or 'left' (``*_lf_*``).
+    gyro_range_dps : int
+        Full scale of the foot gyro, deg/s: 2000 (default) or 250 (the flagged gyros).
     frame_id : str
         Frame name for the recording.
 
@@ -419,6 +445,9 @@ def load_hugadb(path, foot: str = 'right', *, frame_id: str = 'imu_link'):
 
     """
     _check_foot(foot)
+    if gyro_range_dps not in HUGADB_GYR_COUNTS_PER_DPS:
+        raise InputError(f'gyro_range_dps must be one of {sorted(HUGADB_GYR_COUNTS_PER_DPS)} '
+                         f'deg/s, got {gyro_range_dps!r}')
     with open(path, newline='') as stream:
         lines = stream.read().splitlines()
     n_comments = 0
@@ -438,7 +467,7 @@ def load_hugadb(path, foot: str = 'right', *, frame_id: str = 'imu_link'):
     data = _rows_to_array(rows, path, first_line=5)
     columns = [header.index(name) for name in wanted]
     acc = data[:, columns[0:3]] / HUGADB_ACC_COUNTS_PER_G * STANDARD_GRAVITY_MPS2
-    gyr = np.deg2rad(data[:, columns[3:6]] / HUGADB_GYR_COUNTS_PER_DPS)
+    gyr = np.deg2rad(data[:, columns[3:6]] / HUGADB_GYR_COUNTS_PER_DPS[gyro_range_dps])
     activity = data[:, columns[6]].astype(np.int64)
     recording = _imu_from_columns(_uniform_stamps_ns(len(data), HUGADB_RATE_HZ), acc, gyr, path,
                                   frame_id)
@@ -450,8 +479,10 @@ class HugadbIndexRow:
     """
     One row of HuGaDB's ``file_index.csv`` (prepared with the shared data).
 
-    ``rf_gyro_ok``/``lf_gyro_ok`` are False where that foot's gyroscope clips at +-2000 deg/s
-    (its 99th percentile ``*_gyro_p99_dps`` is then ~1998 deg/s).
+    ``rf_gyro_ok``/``lf_gyro_ok`` are False where that foot's gyroscope clips: its 99th
+    percentile ``*_gyro_p99_dps`` (counts / 16.4) is then the int16 rail, ~1998; such a gyro is
+    a +-250 deg/s one (counts / 131, see ``HUGADB_GYR_COUNTS_PER_DPS``) that clips at 250 deg/s
+    in every swing.
     """
 
     file: str
@@ -469,6 +500,10 @@ class HugadbIndexRow:
         """Return whether the gyroscope of 'left' or 'right' foot is usable (not clipped)."""
         _check_foot(foot)
         return self.rf_gyro_ok if foot == 'right' else self.lf_gyro_ok
+
+    def gyro_range_dps(self, foot: str) -> int:
+        """Return the full scale of a foot's gyroscope, deg/s: 2000, or 250 if not ok."""
+        return HUGADB_GYR_RANGE_DPS if self.gyro_ok(foot) else HUGADB_CLIPPED_GYR_RANGE_DPS
 
 
 def _parse_bool(text, where):
