@@ -146,6 +146,21 @@ def test_assign_folds_leave_one_subject_out():
     assert folds[5] == folds[6] and folds[5] != folds[7]
 
 
+def test_hugadb_specs_with_and_without_the_clipped_gyros():
+    hugadb = shared_data_dir() / 'hugadb'
+    specs = train.hugadb_specs(hugadb)
+    assert len(specs) == 107 and {s.gyro_range_dps for s in specs} == {2000}
+    assert not {4, 5} & {s.subject for s in specs}
+    every = train.hugadb_specs(hugadb, clipped_gyro=True)
+    assert len(every) == 180 and {s.subject for s in every} == set(range(1, 10))
+    clipped = [s for s in every if s.gyro_range_dps == 250]
+    assert len(clipped) == 73 and {s.subject for s in clipped} == {3, 4, 5, 7, 9}
+    # The cache key of an unclipped foot is what it was before the gyro range existed.
+    spec = specs[0]
+    assert train.cache_key(spec, train.Pipeline()) != train.cache_key(
+        train.HugadbSpec(spec.path, spec.foot, spec.subject, 250), train.Pipeline())
+
+
 def test_input_universe_ignores_outliers():
     features = np.tile(np.linspace(0.0, 1.0, 1001)[:, None], (1, 5))
     features[0] = -100.0

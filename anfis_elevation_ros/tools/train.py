@@ -22,8 +22,10 @@ valid gait cycle it closes gets a label (eq. 13 mode: +1 up, 0 level, -1 down):
   rate, mounting and walk drawn from the seed (:func:`sim_spec`); a cycle takes the mode of
   the true stride whose end stamp is nearest its closing stamp, within ``--match-tolerance-s``.
 - HuGaDB (``--hugadb DIR``): the human-labelled walks, feet whose gyro does not clip
-  (``file_index.csv``); a cycle takes the activity most of its samples have (walking -> 0,
-  going up -> +1, going down -> -1) if at least ``--min-majority`` of them have it.
+  (``file_index.csv``; with ``--hugadb-clipped-gyro`` also the feet whose gyro is a +-250 deg/s
+  one that clips in every swing -- the only feet of subjects 4 and 5); a cycle takes the
+  activity most of its samples have (walking -> 0, going up -> +1, going down -> -1) if at
+  least ``--min-majority`` of them have it.
 - bags (``--bag BAG LABELS.csv``): a ``stamp_ns,label`` CSV per bag, labelling samples (or
   segments from their first stamp on) with ``--bag-labels sample`` or cycles (closing stamps,
   matched like the simulator's strides) with ``--bag-labels cycle``.
@@ -137,11 +139,12 @@ class SimSpec:
 
 @dataclass(frozen=True)
 class HugadbSpec:
-    """One foot of one HuGaDB file."""
+    """One foot of one HuGaDB file; ``gyro_range_dps`` is that foot's gyro full scale."""
 
     path: str
     foot: str
     subject: int
+    gyro_range_dps: int = 2000
 
     @property
     def name(self) -> str:
@@ -338,7 +341,8 @@ def navigate_spec(spec, pipeline: Pipeline) -> NavigatedRecording:
         recording = walk
     elif isinstance(spec, HugadbSpec):
         from .datasets import load_hugadb
-        recording, activity = load_hugadb(spec.path, spec.foot)
+        recording, activity = load_hugadb(spec.path, spec.foot,
+                                          gyro_range_dps=spec.gyro_range_dps)
         truth = (recording.stamp_ns, lab.hugadb_activity_labels(activity))
     else:
         from .bags import read_imu_bag
@@ -434,6 +438,8 @@ def cache_key(spec, pipeline: Pipeline) -> str:
         identity = {'sim': asdict(spec)}
     elif isinstance(spec, HugadbSpec):
         identity = {'hugadb': _file_digest(Path(spec.path)), 'foot': spec.foot}
+        if spec.gyro_range_dps != HugadbSpec.gyro_range_dps:
+            identity['gyro_range_dps'] = spec.gyro_range_dps
     else:
         identity = {'bag': _file_digest(Path(spec.bag)), 'topic': spec.topic}
     text = json.dumps({'version': CACHE_VERSION, 'recording': identity,
@@ -549,7 +555,7 @@ def label_recording(spec, nav: NavigatedRecording, rules: LabelRules) -> CycleSe
 # Data collection
 # ---------------------------------------------------------------------------------------------
 
-def hugadb_specs(folder, subjects=None, pattern: str = '*') -> list:
+def hugadb_specs(folder, subjects=None, pattern: str = '*', clipped_gyro: bool = False) -> list:
     """
     List the HuGaDB recordings to use: every foot whose gyro does not clip (file_index.csv).
 
@@ -561,6 +567,9 @@ def hugadb_specs(folder, subjects=None, pattern: str = '*') -> list:
         Subjects to keep (None: all).
     pattern : str
         fnmatch pattern on the file names.
+    clipped_gyro : bool
+        Also list the feet whose gyro the index flags: +-250 deg/s gyros that clip in every
+        swing (``datasets.HUGADB_GYR_COUNTS_PER_DPS``); subjects 4 and 5 have no other.
 
     Returns
     -------
@@ -581,8 +590,8 @@ def hugadb_specs(folder, subjects=None, pattern: str = '*') -> list:
         path = folder / row.file
         if not path.is_file():
             raise InputError(f'{path} is listed in file_index.csv but missing')
-        specs.extend(HugadbSpec(str(path), foot, row.subject) for foot in ('left', 'right')
-                     if row.gyro_ok(foot))
+        specs.extend(HugadbSpec(str(path), foot, row.subject, row.gyro_range_dps(foot))
+                     for foot in ('left', 'right') if clipped_gyro or row.gyro_ok(foot))
     if not specs:
         raise InputError(f'no usable HuGaDB recording in {folder} (subjects {subjects}, '
                          f'files {pattern!r})')
@@ -943,6 +952,9 @@ def add_parser(subparsers):
                       help='HuGaDB subjects to use, e.g. 1-9 (default: all)')
     data.add_argument('--hugadb-files', default='*',
                       help='fnmatch pattern selecting HuGaDB files')
+    data.add_argument('--hugadb-clipped-gyro', action='store_true',
+                      help='also use the HuGaDB feet whose gyro is a +-250 deg/s one that clips '
+                      'in every swing (the only feet of subjects 4 and 5)')
     data.add_argument('--bag', nargs=2, action='append', default=[], metavar=('BAG', 'LABELS'),
                       help='a bag and its stamp_ns,label CSV (repeatable)')
     data.add_argument('--bag-labels', choices=('sample', 'cycle'), default='sample',
@@ -990,7 +1002,7 @@ def _specs_from_args(args) -> list:
     specs = [sim_spec(seed, args.sim_duration_s) for seed in args.sim_seeds]
     if args.hugadb is not None:
         subjects = None if args.hugadb_subjects is None else set(args.hugadb_subjects)
-        specs += hugadb_specs(args.hugadb, subjects, args.hugadb_files)
+        specs += hugadb_specs(args.hugadb, subjects, args.hugadb_files, args.hugadb_clipped_gyro)
     for bag, labels_csv in args.bag:
         for path in (bag, labels_csv):
             if not Path(path).exists():
