@@ -146,6 +146,40 @@ def test_assign_folds_leave_one_subject_out():
     assert folds[5] == folds[6] and folds[5] != folds[7]
 
 
+def test_nested_threshold_never_sees_the_fold_it_scores():
+    """
+    sigma_th of fold k comes from the other folds only: changing fold k moves no sigma_th_k.
+
+    Three subjects of 60 cycles whose mode is a noisy function of one feature; the per-fold
+    predictions are the outer outputs thresholded at that fold's sigma_th.
+    """
+    rng = np.random.default_rng(5)
+
+    def cycle_set(subject, flip=False):
+        x = rng.uniform(-1.0, 1.0, (60, 5))
+        mode = np.clip(np.round(1.5 * x[:, 0] + rng.normal(0.0, 0.3, 60)), -1, 1)
+        if flip:
+            mode = -mode
+        return train.CycleSet(f'hugadb/f{subject}/left', 'hugadb', f'hugadb/s0{subject}',
+                              f'hugadb/f{subject}', x, mode.astype(np.int8), np.zeros(60, bool))
+    sets = [cycle_set(s) for s in (1, 2, 3)]
+    folds, _ = train.assign_folds(sets, 'subject')
+    options = train.TrainOptions(epochs=1)
+    output = train.cross_validate(sets, folds, options)
+    thresholds, predicted = train.nested_threshold_cv(sets, folds, options, output)
+    assert len(thresholds) == 3 and set(thresholds) <= set(train.THRESHOLD_GRID)
+    _, _, owner = train.stack(sets)
+    for k in range(3):
+        mask = folds[owner] == k
+        assert predicted[mask].tolist() == stair_mode(output[mask], thresholds[k]).tolist()
+    k = int(folds[0])
+    changed = [cycle_set(1, flip=True)] + sets[1:]          # fold k gets other data and labels
+    again, _ = train.nested_threshold_cv(changed, folds, options, output)
+    assert again[k] == thresholds[k]
+    two = train.assign_folds(sets[:2], 'subject')[0]
+    assert train.nested_threshold_cv(sets[:2], two, options, output[:120]) == (None, None)
+
+
 def test_hugadb_specs_with_and_without_the_clipped_gyros():
     hugadb = shared_data_dir() / 'hugadb'
     specs = train.hugadb_specs(hugadb)
