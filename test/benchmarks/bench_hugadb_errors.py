@@ -1,0 +1,302 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Where the HuGaDB leave-one-subject-out errors come from (a script, not a test).
+
+Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_hugadb_errors.py``
+(``--clipped-gyro`` adds the +-250 deg/s feet, subjects 1-9; ``--parts`` to choose; ``--help``).
+The cross-validation is the ``train`` one (simulated seeds 1-40 + HuGaDB, one fold per subject,
+default training options), scored with sigma_th chosen inside the training folds
+(``train.nested_threshold_cv``). Parts:
+
+- ``loso``: accuracy and confusion per subject; errors by distance of the cycle to the nearest
+  change of the human label, by cycle duration (merged cycles: a stance the detector missed),
+  by two-foot agreement (the other foot's overlapping cycles predicted the same wrong mode:
+  label or ambiguity; predicted otherwise: this foot's features), and runs of at least 3
+  consecutive errors of one label on one foot (suspect label stretches).
+- ``nav``: what the navigator makes of the +-2 g accelerometer: per swing, the velocity left at
+  its end (what the ZUPT removes; from the track's last two swing samples) against the number
+  of saturated accelerometer samples in it; the EKF's accelerometer-bias estimate; horizontal
+  stride length per mode (true: about 1.3 m level, 0.6 m on stairs).
+- ``gyro``: the feet whose gyro ``file_index.csv`` flags, read as +-2000 and as +-250 deg/s,
+  classified by a model of the unflagged feet and the simulated runs.
+
+Navigator outputs are cached as in ``train`` (``--cache-dir``).
+"""
+
+import argparse
+from collections import Counter, defaultdict
+from pathlib import Path
+import sys
+
+from anfis_elevation_ros.core.height import stair_mode
+from anfis_elevation_ros.core.input_gate import InputGate
+from anfis_elevation_ros.core.navigator import FootNavigator
+from anfis_elevation_ros.tools import labels as lab
+from anfis_elevation_ros.tools import train
+from anfis_elevation_ros.tools.datasets import load_hugadb, STANDARD_GRAVITY_MPS2
+from anfis_elevation_ros.tools.metrics import confusion_matrix
+from anfis_elevation_ros.tools.replay import navigated_samples
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+HUGADB_ACC_SATURATION_MPS2 = 0.999 * 2.0 * STANDARD_GRAVITY_MPS2
+RUN_LENGTH = 3
+
+
+def cycle_table(spec, cycle_set, rules, cache_dir) -> dict:
+    """Stamps, duration and label-change distance of the used cycles of one HuGaDB foot."""
+    nav = train.navigated(spec, train.Pipeline(), cache_dir)[0]
+    labels, labelled = lab.majority_labels(nav.start_ns, nav.stamp_ns, nav.truth_stamp_ns,
+                                           nav.truth_label, rules.min_majority)
+    non_stride = lab.non_stride_cycles(nav.start_ns, nav.stamp_ns, rules.min_stride_s)
+    used = nav.valid & (labelled | non_stride)
+    assert int(used.sum()) == len(cycle_set.labels)
+    change_ns = nav.truth_stamp_ns[1:][np.diff(nav.truth_label) != 0]
+    start, stop = nav.start_ns[used], nav.stamp_ns[used]
+    before = np.searchsorted(change_ns, start, side='right') - 1
+    after = np.searchsorted(change_ns, stop, side='left')
+    gap_before = np.where(before >= 0, start - change_ns[np.maximum(before, 0)], np.inf)
+    gap_after = np.where(after < len(change_ns),
+                         change_ns[np.minimum(after, len(change_ns) - 1)] - stop, np.inf)
+    inside = after - before > 1
+    distance_s = np.where(inside, 0.0, np.minimum(gap_before, gap_after) * 1e-9)
+    return {'start_s': start * 1e-9, 'stop_s': stop * 1e-9, 'distance_s': distance_s,
+            'non_stride': non_stride[used], 'invalid': int(np.sum(~nav.valid)),
+            'cycles': len(nav.valid)}
+
+
+def loso(args):
+    """Run the cross-validation; return per-cycle arrays of the HuGaDB cycles."""
+    rules = train.LabelRules()
+    hugadb = train.hugadb_specs(args.hugadb, clipped_gyro=args.clipped_gyro)
+    specs = [train.sim_spec(seed) for seed in range(1, 41)] + hugadb
+    progress = train.Progress(args.quiet)
+    everything = train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
+                               progress)
+    keep = [i for i, s in enumerate(everything) if len(s.labels)]
+    sets = [everything[i] for i in keep]
+    folds, _ = train.assign_folds(sets, 'subject', 0, 0)
+    options = train.TrainOptions()
+    output = train.cross_validate(sets, folds, options, progress)
+    thresholds, predicted = train.nested_threshold_cv(sets, folds, options, output, progress)
+    _, labels, owner = train.stack(sets)
+    rows = defaultdict(list)
+    for i, cycle_set in zip(keep, sets):
+        spec = specs[i]
+        mask = owner == keep.index(i)
+        if cycle_set.source != 'hugadb':
+            continue
+        table = cycle_table(spec, cycle_set, rules, args.cache_dir)
+        n = len(cycle_set.labels)
+        rows['file'] += [Path(spec.path).stem] * n
+        rows['foot'] += [spec.foot] * n
+        rows['subject'] += [spec.subject] * n
+        rows['gyro_range_dps'] += [spec.gyro_range_dps] * n
+        for key in ('start_s', 'stop_s', 'distance_s', 'non_stride'):
+            rows[key].append(table[key])
+        rows['label'].append(labels[mask])
+        rows['predicted'].append(predicted[mask])
+        rows['output'].append(output[mask])
+        rows['features'].append(cycle_set.features)
+    table = {key: (np.concatenate(value) if isinstance(value[0], np.ndarray)
+                   else np.array(value)) for key, value in rows.items()}
+    print(f'\nHuGaDB leave-one-subject-out, {len(hugadb)} feet, sigma_th per fold '
+          f'{"/".join(f"{t:g}" for t in thresholds)} (chosen inside the training folds)')
+    return table
+
+
+def print_loso(t):
+    """Accuracy, confusion and the error breakdowns of the cross-validation."""
+    ok = t['label'] == t['predicted']
+    print(f'  accuracy {ok.mean():.4f} on {len(ok)} cycles, {int(np.sum(~ok))} errors; '
+          f'confusion (rows true -1/0/+1) {confusion_matrix(t["label"], t["predicted"]).tolist()}')
+    for subject in sorted(set(t['subject'].tolist())):
+        m = t['subject'] == subject
+        print(f'    s{subject}: {ok[m].mean():.4f} on {m.sum():4d}, confusion '
+              f'{confusion_matrix(t["label"][m], t["predicted"][m]).tolist()}')
+    print('  by distance of the cycle to the nearest label change:')
+    for lo, hi in ((0.0, 1e-9), (1e-9, 0.5), (0.5, 1.0), (1.0, 2.0), (2.0, 4.0), (4.0, np.inf)):
+        m = (t['distance_s'] >= lo) & (t['distance_s'] < hi)
+        name = 'spans one' if hi < 1e-6 else f'[{lo:g}, {hi:g}) s'
+        if m.any():
+            print(f'    {name:12s} {m.sum():5d} cycles, accuracy {ok[m].mean():.4f}, '
+                  f'{int(np.sum(~ok[m]))} errors')
+    duration = t['stop_s'] - t['start_s']
+    print('  by cycle duration (swing; a stride takes 0.6-1.1 s):')
+    for lo, hi in ((0.0, 0.3), (0.3, 0.6), (0.6, 1.2), (1.2, 1.5), (1.5, 2.6)):
+        m = (duration >= lo) & (duration < hi)
+        if m.any():
+            print(f'    [{lo:g}, {hi:g}) s {m.sum():5d} cycles, accuracy {ok[m].mean():.4f}, '
+                  f'{int(np.sum(~ok[m]))} errors')
+    agreement = Counter()
+    keys = list(zip(t['file'], t['foot']))
+    by_foot = defaultdict(list)
+    for i, key in enumerate(keys):
+        by_foot[key].append(i)
+    for i in np.flatnonzero(~ok):
+        other = by_foot.get((t['file'][i], 'left' if t['foot'][i] == 'right' else 'right'), [])
+        near = [j for j in other if t['stop_s'][j] > t['start_s'][i] - 0.3
+                and t['start_s'][j] < t['stop_s'][i] + 0.3 and not t['non_stride'][j]]
+        if not other:
+            agreement['one foot only'] += 1
+        elif not near:
+            agreement['no overlapping cycle'] += 1
+        elif all(t['predicted'][j] == t['predicted'][i] for j in near):
+            agreement['other foot predicts the same'] += 1
+        else:
+            agreement['other foot predicts otherwise'] += 1
+    print(f'  errors by two-foot agreement: {dict(agreement)}')
+    runs = []
+    for key, index in by_foot.items():
+        index = [i for i in index if not t['non_stride'][i]]
+        k = 0
+        while k < len(index):
+            j = k
+            while j < len(index) and not ok[index[j]] and \
+                    t['label'][index[j]] == t['label'][index[k]]:
+                j += 1
+            if j - k >= RUN_LENGTH:
+                runs.append((key, t['start_s'][index[k]], t['stop_s'][index[j - 1]], j - k,
+                             int(t['label'][index[k]]),
+                             dict(Counter(t['predicted'][index[k:j]].tolist()))))
+            k = max(j, k + 1)
+    print(f'  runs of >= {RUN_LENGTH} consecutive errors of one label on one foot '
+          f'({sum(r[3] for r in runs)} cycles):')
+    for (name, foot), start, stop, n, label, predicted in sorted(runs):
+        print(f'    {name} {foot:5s} {start:6.1f}-{stop:6.1f} s: {n} cycles labelled {label:+d}, '
+              f'predicted {predicted}')
+    f = t['features']
+    print('  medians of dh (m) and max pitch (rad), right | wrong, per true mode:')
+    for mode in lab.MODES:
+        parts = []
+        mine = t['label'] == mode
+        for name, m in (('right', mine & ok), ('wrong', mine & ~ok)):
+            parts.append(f'{name} n={m.sum():4d} dh {np.median(f[m, 2]):+.3f} pitch '
+                         f'{np.median(f[m, 4]):+.3f}')
+        print(f'    {mode:+d}: ' + ' | '.join(parts))
+
+
+def swing_diagnostics(spec):
+    """Per swing: end velocity (m/s), saturated samples; acc-bias estimate; cycle strides."""
+    recording, activity = load_hugadb(spec.path, spec.foot, gyro_range_dps=spec.gyro_range_dps)
+    saturated = np.any(np.abs(recording.acc_b) >= HUGADB_ACC_SATURATION_MPS2, axis=1)
+    navigator = FootNavigator(train.Pipeline().navigator)
+    swings, biases, strides = [], [], []
+    previous, n_saturated, n_swing, last_pos = None, 0, 0, None
+    min_swing = int(round(train.DEFAULT_MIN_STRIDE_S * recording.rate_hz))
+    for k, point, cycle in navigated_samples(recording, InputGate(train.Pipeline().gate),
+                                             navigator):
+        if not point.stance:
+            n_saturated += saturated[k]
+            n_swing += 1
+        elif previous is not None and not previous[0].stance and previous[1] is not None:
+            dt_s = (previous[0].stamp_ns - previous[1].stamp_ns) * 1e-9
+            velocity = (previous[0].pos_n - previous[1].pos_n) / dt_s
+            if n_swing >= min_swing:       # a stride, not the detector flickering at rest
+                swings.append((n_saturated, np.hypot(*velocity[:2]), abs(velocity[2])))
+            n_saturated = n_swing = 0
+            biases.append(float(np.linalg.norm(getattr(navigator, '_acc_bias', np.zeros(3)))))
+        if cycle is not None and cycle.valid:
+            if last_pos is not None:
+                strides.append((cycle.start_stamp_ns, cycle.stamp_ns,
+                                float(np.hypot(*(cycle.pos_n[:2] - last_pos[:2])))))
+            last_pos = cycle.pos_n
+        previous = (point, previous[0] if previous else None)
+    return np.array(swings).reshape(-1, 3), np.array(biases), strides, recording, activity
+
+
+def print_nav(args):
+    """Swing-end velocity against saturation, bias estimates, stride lengths."""
+    swings, biases, lengths = [], [], defaultdict(list)
+    for spec in train.hugadb_specs(args.hugadb):
+        s, b, strides, recording, activity = swing_diagnostics(spec)
+        swings.append(s)
+        biases.append(b)
+        modes = lab.hugadb_activity_labels(activity)
+        start = np.array([a for a, _, _ in strides], dtype=np.int64)
+        stop = np.array([z for _, z, _ in strides], dtype=np.int64)
+        label, labelled = lab.majority_labels(start, stop, recording.stamp_ns, modes)
+        for length, mode, known in zip([x for _, _, x in strides], label, labelled):
+            if known:
+                lengths[int(mode)].append(length)
+    swings = np.vstack(swings)
+    biases = np.concatenate(biases)
+    print(f'\nNavigation of the unflagged feet: {len(swings)} swings of at least '
+          f'{train.DEFAULT_MIN_STRIDE_S:g} s')
+    print('  velocity left at the end of the swing (removed by the ZUPT) by saturated '
+          'accelerometer samples in the swing:')
+    for lo, hi in ((0, 1), (1, 3), (3, 6), (6, 10), (10, 1000)):
+        m = (swings[:, 0] >= lo) & (swings[:, 0] < hi)
+        print(f'    [{lo}, {hi}) saturated: {m.sum():5d} swings, median |v_h| '
+              f'{np.median(swings[m, 1]):.3f} m/s, |v_z| {np.median(swings[m, 2]):.3f} m/s')
+    print(f'  saturated samples per swing: median {np.median(swings[:, 0]):.0f}; EKF |acc bias| '
+          f'estimate at the stances: median {np.median(biases):.2f} m/s^2, 95 % '
+          f'{np.percentile(biases, 95):.2f} (start-up sigma 0.1)')
+    print('  horizontal stride length per labelled mode (median, m): ' + ', '.join(
+        f'{m:+d}: {np.median(v):.2f} ({len(v)})' for m, v in sorted(lengths.items())))
+
+
+def print_gyro(args):
+    """Classify the flagged gyros, read at either full scale, by a model of the others."""
+    rules = train.LabelRules()
+    specs = [train.sim_spec(seed) for seed in range(1, 41)] + train.hugadb_specs(args.hugadb)
+    sets = [s for s in train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
+                                     train.Progress(args.quiet)) if len(s.labels)]
+    features, labels, _ = train.stack(sets)
+    model = train.fit_model(features, labels, train.TrainOptions())
+    threshold = 0.45                                    # the default model's sigma_th
+    flagged = [s for s in train.hugadb_specs(args.hugadb, clipped_gyro=True)
+               if s.gyro_range_dps != 2000]
+    print(f'\nFlagged gyros ({len(flagged)} feet), model of the {len(specs) - 40} unflagged feet '
+          f'and seeds 1-40, sigma_th {threshold}:')
+    for range_dps in (2000, 250):
+        specs_r = [train.HugadbSpec(s.path, s.foot, s.subject, range_dps) for s in flagged]
+        found = [s for s in train.collect(specs_r, train.Pipeline(), rules, args.cache_dir,
+                                          args.jobs, train.Progress(True)) if len(s.labels)]
+        f, y, owner = train.stack(found)
+        p = stair_mode(model.predict(f), threshold)
+        subject = np.array([found[i].subject for i in owner])
+        counts = {key: sum(s.counts[key] for s in found) for key in ('cycles', 'invalid')}
+        per = ', '.join(f'{name[-3:]} {np.mean(p[subject == name] == y[subject == name]):.3f}'
+                        for name in sorted(set(subject.tolist())))
+        print(f'  read as +-{range_dps} deg/s: accuracy {np.mean(p == y):.4f} on {len(y)} '
+              f'cycles ({counts["cycles"]} cycles, {counts["invalid"]} invalid); {per}')
+
+
+def main(argv=None) -> int:
+    """Print the analysis."""
+    parser = argparse.ArgumentParser(description=__doc__.strip().split('\n\n')[0],
+                                     formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    parser.add_argument('--parts', default='loso,nav,gyro')
+    parser.add_argument('--clipped-gyro', action='store_true',
+                        help='loso: add the +-250 deg/s feet (subjects 4 and 5 have no other)')
+    parser.add_argument('--hugadb', type=Path, default=ROOT.parent / 'shared' / 'data' / 'hugadb')
+    parser.add_argument('--cache-dir', type=Path, default=train.default_cache_dir())
+    parser.add_argument('--jobs', type=int, default=1)
+    parser.add_argument('--quiet', action='store_true')
+    args = parser.parse_args(argv)
+    parts = args.parts.split(',')
+    if 'loso' in parts:
+        print_loso(loso(args))
+    if 'nav' in parts:
+        print_nav(args)
+    if 'gyro' in parts:
+        print_gyro(args)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
