@@ -245,8 +245,8 @@ _MODEL_PATH = ParamSpec('model_path', '', "ANFIS model JSON file; '' is the pack
                         'config/anfis_default.json.')
 _IMU_NODE_ONLY = (
     ParamSpec('imu_topic', '/imu/data', 'sensor_msgs/Imu topic to subscribe to.'),
-    ParamSpec('imu_qos_depth', 200, 'Depth of the Imu subscription queue, messages (bursts of '
-              'a 400 Hz sensor).', 1, 10000),
+    ParamSpec('imu_qos_depth', 2000, 'Depth of the Imu subscription queue, messages (5 s of a '
+              '400 Hz sensor: a busy CPU or slow disk must not drop samples).', 1, 10000),
     ParamSpec('odom_frame_id', 'odom', 'Frame of the published foot track (REP 105).'),
     ParamSpec('track_rate_hz', 10.0, 'Rate of the foot_odom track, Hz; 0 publishes none.', 0.0,
               100.0),
