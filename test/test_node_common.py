@@ -20,9 +20,10 @@ import struct
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.gait import GaitCycle
 from anfis_elevation_ros.core.params import all_specs
+from anfis_elevation_ros.core.state import ElevationState, load_state
 from anfis_elevation_ros.nodes.common import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
 from anfis_elevation_ros.nodes.common import imu_sample, imu_sample_from_cdr
-from anfis_elevation_ros.nodes.common import parameter_descriptor
+from anfis_elevation_ros.nodes.common import parameter_descriptor, StateWriter
 import numpy as np
 import pytest
 from rclpy.serialization import serialize_message
@@ -123,3 +124,32 @@ def test_descriptors_carry_the_table():
     assert not d.read_only
     d = parameter_descriptor(specs['mounting_rpy_deg'])
     assert 'each element' in d.additional_constraints
+
+
+def _elevation(index):
+    return ElevationState(stamp_ns=1_700_000_000_000_000_000 + index, wall_time_s=1000.0,
+                          source_id='/gait_cycle', height_m=0.17 * index, floor=0,
+                          cycle_index=index)
+
+
+def test_state_writer_writes_the_latest_state_and_flushes_on_close(tmp_path):
+    errors = []
+    writer = StateWriter(tmp_path / 'classifier.state.json', errors.append)
+    for index in range(1, 51):
+        writer.submit(_elevation(index))
+    writer.close()
+    assert load_state(tmp_path / 'classifier.state.json', ElevationState).cycle_index == 50
+    assert errors == [] and writer.errors == 0
+
+
+def test_state_writer_counts_failed_writes_and_goes_on(tmp_path):
+    (tmp_path / 'blocked').write_text('a file where the state directory should be')
+    errors = []
+    writer = StateWriter(tmp_path / 'blocked' / 'classifier.state.json', errors.append)
+    writer.submit(_elevation(1))
+    writer.close()
+    assert writer.errors == 1 and isinstance(errors[0], OSError)
+    writer = StateWriter(tmp_path / 'ok' / 'classifier.state.json', errors.append)
+    writer.submit(_elevation(2))
+    writer.close()
+    assert load_state(tmp_path / 'ok' / 'classifier.state.json', ElevationState).cycle_index == 2

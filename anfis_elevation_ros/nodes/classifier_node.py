@@ -61,10 +61,11 @@ from std_msgs.msg import Int32, Int8
 
 from .common import cycle_from_msg, cycle_history_qos, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, LATEST_QOS, LiveParameters, ns_to_stamp, spin_node
+from .common import StateWriter
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
 from ..core.params import CLASSIFIER_NODE, elevation_params_from_dict, load_model, model_file
-from ..core.state import ElevationState, resumable_state, save_state, state_file
+from ..core.state import ElevationState, resumable_state, state_file
 
 LOG_PERIOD_S = 5.0
 DIAGNOSTICS_PERIOD_S = 1.0
@@ -92,6 +93,8 @@ class ClassifierNode(Node):
         self._source_id = self.resolve_topic_name('gait_cycle')
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
+        self._state_writer = StateWriter(self._state_path, self._log_state_error) \
+            if self._persist else None
         state, reason = None, 'starting fresh (persist_state is false)'
         if self._persist:
             state, reason = resumable_state(self._state_path, ElevationState, self._source_id,
@@ -106,7 +109,6 @@ class ClassifierNode(Node):
         self._resumed = state is not None
         self._last_stamp_ns = -1 if state is None else state.stamp_ns
         self._last_index = 0 if state is None else state.cycle_index
-        self._state_write_errors = 0
         self._already_counted = 0
         self._missed = 0
         self.get_logger().info(reason if state is None else
@@ -198,15 +200,23 @@ class ClassifierNode(Node):
                                    f'{self._tracker.height_m:.2f} m')
 
     def _save_state(self):
-        try:
-            save_state(self._state_path, ElevationState(
-                stamp_ns=self._last_stamp_ns, wall_time_s=time.time(),
-                source_id=self._source_id, height_m=self._tracker.height_m,
-                floor=self._tracker.floor, cycle_index=self._last_index))
-        except (OSError, InputError) as err:
-            self._state_write_errors += 1
-            self.get_logger().error(f'cannot write the state file: {err}',
-                                    throttle_duration_sec=LOG_PERIOD_S)
+        self._state_writer.submit(ElevationState(
+            stamp_ns=self._last_stamp_ns, wall_time_s=time.time(),
+            source_id=self._source_id, height_m=self._tracker.height_m,
+            floor=self._tracker.floor, cycle_index=self._last_index))
+
+    def _log_state_error(self, err):
+        self.get_logger().error(f'cannot write the state file: {err}',
+                                throttle_duration_sec=LOG_PERIOD_S)
+
+    def _state_write_errors(self) -> int:
+        return self._state_writer.errors if self._state_writer is not None else 0
+
+    def destroy_node(self):
+        """Write the pending state, then destroy the node."""
+        if self._state_writer is not None:
+            self._state_writer.close()
+        super().destroy_node()
 
     def _publish_floor_if_changed(self):
         floor = self._tracker.floor
@@ -222,7 +232,7 @@ class ClassifierNode(Node):
             (self._malformed, 'malformed cycles'), (self._missed, 'cycles never received'),
             (tracker.unbridged_cycles, 'invalid cycles not bridged'),
             (tracker.implausible_cycles, 'implausible climbs'),
-            (self._state_write_errors, 'failed state writes')) if n]
+            (self._state_write_errors(), 'failed state writes')) if n]
         if problems:
             level, message = DiagnosticStatus.WARN, ', '.join(problems)
         else:
@@ -234,7 +244,7 @@ class ClassifierNode(Node):
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
                   'last_mode': self._last_mode, 'resumed': self._resumed,
-                  'state_write_errors': self._state_write_errors}
+                  'state_write_errors': self._state_write_errors()}
         msg = DiagnosticArray(status=[diagnostic_status(
             'classifier_node: elevation', level, message, self._map_frame_id, values)])
         msg.header.stamp = ns_to_stamp(now_ns)

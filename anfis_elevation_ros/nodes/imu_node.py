@@ -69,14 +69,14 @@ from sensor_msgs.msg import Imu, PointCloud2
 
 from .common import cycle_history_qos, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
-from .common import ns_to_stamp, spin_node
+from .common import ns_to_stamp, spin_node, StateWriter
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
 from ..core.input_gate import WRONG_UNITS
 from ..core.navigator import compile_navigator, FootNavigator
 from ..core.params import gate_params_from_dict, IMU_NODE, navigator_params_from_dict
-from ..core.state import NavigationState, resumable_state, save_state, state_file
+from ..core.state import NavigationState, resumable_state, state_file
 
 REJECT_LOG_PERIOD_S = 5.0
 LOSS_WARN_FRACTION = 0.01   # more lost samples than this (per diagnostics period) is a warning
@@ -120,10 +120,11 @@ class ImuNode(Node):
         self._imu_topic = self.resolve_topic_name(values['imu_topic'])
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
+        self._state_writer = StateWriter(self._state_path, self._log_state_error) \
+            if self._persist else None
         self._state_max_age_s = values['state_max_age_s']
         self._source_id = None        # set by the first accepted IMU message
         self._resumed = False
-        self._state_write_errors = 0
         self._cycle_index = 0
         self._last_cycle_stamp_ns = None
         self._periods_s = deque(maxlen=STRIDE_PERIODS)
@@ -273,19 +274,27 @@ class ImuNode(Node):
     def _save_state(self, cycle):
         pos_n = cycle.pos_n
         filter_ok = bool(np.all(np.isfinite(pos_n))) and not self._internal_errors
-        try:
-            save_state(self._state_path, NavigationState(
-                stamp_ns=cycle.stamp_ns, wall_time_s=time.time(), source_id=self._source_id,
-                x_m=float(pos_n[0]) if filter_ok else 0.0,
-                y_m=float(pos_n[1]) if filter_ok else 0.0,
-                z_m=float(pos_n[2]) if filter_ok else 0.0,
-                heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
-                filter_ok=filter_ok, cycles=self._cycle_index,
-                stride_period_s=self._stride_period_s()))
-        except (OSError, InputError) as err:
-            self._state_write_errors += 1
-            self.get_logger().error(f'cannot write the state file: {err}',
-                                    throttle_duration_sec=REJECT_LOG_PERIOD_S)
+        self._state_writer.submit(NavigationState(
+            stamp_ns=cycle.stamp_ns, wall_time_s=time.time(), source_id=self._source_id,
+            x_m=float(pos_n[0]) if filter_ok else 0.0,
+            y_m=float(pos_n[1]) if filter_ok else 0.0,
+            z_m=float(pos_n[2]) if filter_ok else 0.0,
+            heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
+            filter_ok=filter_ok, cycles=self._cycle_index,
+            stride_period_s=self._stride_period_s()))
+
+    def _log_state_error(self, err):
+        self.get_logger().error(f'cannot write the state file: {err}',
+                                throttle_duration_sec=REJECT_LOG_PERIOD_S)
+
+    def _state_write_errors(self) -> int:
+        return self._state_writer.errors if self._state_writer is not None else 0
+
+    def destroy_node(self):
+        """Write the pending state, then destroy the node."""
+        if self._state_writer is not None:
+            self._state_writer.close()
+        super().destroy_node()
 
     # -- outputs -------------------------------------------------------------------------------
 
@@ -354,8 +363,8 @@ class ImuNode(Node):
 
         if self._internal_errors:
             level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
-        elif self._state_write_errors:
-            level, message = DiagnosticStatus.WARN, (f'{self._state_write_errors} failed '
+        elif self._state_write_errors():
+            level, message = DiagnosticStatus.WARN, (f'{self._state_write_errors()} failed '
                                                      'state writes')
         elif not status.initialised:
             level, message = DiagnosticStatus.WARN, 'waiting for the first stance'
@@ -369,7 +378,7 @@ class ImuNode(Node):
             'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m,
             'resumed': self._resumed, 'outage_cycles': self._outage_cycles,
             'state_file': str(self._state_path) if self._persist else '',
-            'state_write_errors': self._state_write_errors}
+            'state_write_errors': self._state_write_errors()}
         statuses.append(diagnostic_status('imu_node: foot navigator', level, message,
                                           hardware_id, nav_values))
         msg = DiagnosticArray(status=statuses)
