@@ -270,3 +270,21 @@ def test_invalid_cycles_at_the_end_of_a_flight_add_nothing():
     after = tracker.update(2, _features(0.0), 0.0, 0.0)
     assert after.bridged_steps == 0 and after.height_m == pytest.approx(0.30, abs=1e-12)
     assert (tracker.bridged_cycles, tracker.unbridged_cycles) == (0, 1)
+
+
+def test_new_parameters_mid_run_keep_height_and_pending_cycles():
+    """A live parameter change between a lost cycle and the next keeps the bridging."""
+    tracker = ElevationTracker(ScriptedModel([0.9] * 6), ElevationParams(step_height_m=0.15))
+    for k in range(5):
+        tracker.update(k, _features(0.30), 0.0, 0.0)               # 2 steps each: 1.50 m
+    tracker.update(5, None, 0.0, 0.0, valid=False)
+    tracker.set_params(ElevationParams(step_height_m=0.17, floor_height_m=2.0, start_floor=3))
+    assert tracker.height_m == pytest.approx(1.50, abs=1e-12)
+    assert tracker.floor == 4                                      # 3 + round(1.50 / 2.0)
+    after = tracker.update(6, _features(0.34), 0.0, 0.0)
+    # The lost cycle climbed as the one before (2 steps), now of the new height 0.17 m.
+    assert after.bridged_steps == 2
+    assert after.height_m == pytest.approx(1.50 + 2 * 0.17 + 2 * 0.17, abs=1e-12)
+    assert (tracker.bridged_cycles, tracker.unbridged_cycles) == (1, 0)
+    with pytest.raises(ValueError):
+        tracker.set_params({'step_height_m': 0.17})

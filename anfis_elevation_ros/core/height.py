@@ -366,6 +366,22 @@ class ElevationTracker:
         self.unbridged_cycles = 0
         self.implausible_cycles = 0
 
+    def set_params(self, params: ElevationParams):
+        """
+        Take new parameters mid-run (a live parameter change).
+
+        The height is kept (the new step height counts from here), and so are the counters and
+        the invalid cycles waiting to be bridged; the floor follows the new storey height and
+        start floor.
+        """
+        if not isinstance(params, ElevationParams):
+            raise ValueError(f'params must be ElevationParams, got {type(params).__name__}')
+        mode_threshold = model_mode_threshold(self.model, params)
+        self._base_height_m = self.height_m
+        self._steps = 0
+        self.params = params
+        self.mode_threshold = mode_threshold
+
     @property
     def height_m(self) -> float:
         """Return the current quantised height, m (z up)."""

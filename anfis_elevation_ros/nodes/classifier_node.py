@@ -134,10 +134,7 @@ class ClassifierNode(Node):
         self.get_logger().info(f'{"resumed" if self._resumed else "start"} floor {self._floor}')
 
     def _apply_parameters(self, values, changed):
-        # Keep the height; the new step height counts from here, the floor follows the
-        # new storey height and start floor.
-        self._tracker = ElevationTracker(self._model, elevation_params_from_dict(values),
-                                         height_m=self._tracker.height_m)
+        self._tracker.set_params(elevation_params_from_dict(values))
         self.get_logger().info(f'parameters changed: {", ".join(changed)}')
         self._publish_floor_if_changed()
 
