@@ -31,6 +31,11 @@ handed to the middleware), and this script, which subscribes to /elevation and /
 - Lost IMU messages: messages ``play`` published minus those the imu node counted as received
   (its /diagnostics). Target: 0.
 
+With ``--baseline`` the same bag is then played to a subscriber that does nothing with the
+messages (same QoS, raw messages, the events executor run as the nodes run it), and its CPU
+is printed beside the nodes' with their ratio: the share of rclpy and DDS in the figure, and a
+comparison that holds when the host's speed changes between runs.
+
 The model is a fixed linear one (``test/live_support.py``), so the figures do not depend on the
 trained default. Prints the figures, writes them as JSON with ``--json``, and exits 1 if a
 target is missed. The machine's load (``os.getloadavg``) is printed: other work on the same
@@ -97,6 +102,43 @@ class CpuSampler(threading.Thread):
         return 100.0 * (c1 - c0) / ((t1 - t0) * 1e-9)
 
 
+# A subscriber that receives the Imu stream as the IMU node does and does nothing with it.
+BASELINE_SUBSCRIBER = """
+import rclpy
+from rclpy.experimental import EventsExecutor
+from rclpy.task import Future
+from sensor_msgs.msg import Imu
+from anfis_elevation_ros.nodes.common import imu_qos
+rclpy.init()
+node = rclpy.create_node('baseline_imu_subscriber')
+node.create_subscription(Imu, '/imu/data', lambda data: None, imu_qos(2000), raw=True)
+executor = EventsExecutor()
+executor.add_node(node)
+never_done = Future()
+while rclpy.ok():
+    executor.spin_until_future_complete(never_done, timeout_sec=0.1)
+"""
+
+
+def baseline_cpu_pct(bag: Path, publish_log: Path) -> float:
+    """CPU (% of one core) of BASELINE_SUBSCRIBER while the bag plays at its recorded pace."""
+    proc = subprocess.Popen([sys.executable, '-c', BASELINE_SUBSCRIBER], env=cli_env(),
+                            cwd=PACKAGE_ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    try:
+        sampler = CpuSampler(proc.pid)
+        sampler.start()
+        published = play_at_recorded_pace(bag, publish_log)
+        sampler.stop()
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+    return sampler.percent_between(int(published[0, 1]), int(published[-1, 1]))
+
+
 def simulate(out_dir: Path, scenario: str, rate_hz: float, seed: int) -> Path:
     """Simulate the walk at the IMU rate; return the bag directory."""
     result = subprocess.run(cli('simulate', '--scenario', scenario, '--rate-hz', rate_hz,
@@ -116,6 +158,8 @@ def main(argv=None) -> int:
     parser.add_argument('--seed', type=int, default=7, help='simulation seed')
     parser.add_argument('--executor', choices=('events', 'single'), default='events',
                         help='executor of the nodes')
+    parser.add_argument('--baseline', action='store_true',
+                        help='then play the bag to a do-nothing subscriber and compare CPU')
     parser.add_argument('--json', type=Path, default=None, help='write the figures here')
     args = parser.parse_args(argv)
 
@@ -156,6 +200,10 @@ def main(argv=None) -> int:
         'nodes_cpu_pct_of_one_core': cpu_pct, 'load_average_1min': os.getloadavg()[0],
         'nodes_exit_code': code,
     }
+    if args.baseline:
+        baseline_pct = baseline_cpu_pct(bag, work / 'published_baseline.csv')
+        figures['baseline_subscriber_cpu_pct_of_one_core'] = baseline_pct
+        figures['nodes_over_baseline_cpu'] = cpu_pct / baseline_pct
     print(json.dumps(figures, indent=2))
     if args.json is not None:
         args.json.write_text(json.dumps(figures, indent=2) + '\n')
