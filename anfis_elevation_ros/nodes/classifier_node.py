@@ -61,7 +61,7 @@ from std_msgs.msg import Int32, Int8
 
 from .common import cycle_from_msg, cycle_history_qos, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, LATEST_QOS, LiveParameters, ns_to_stamp, spin_node
-from .common import StateWriter
+from .common import PersistsState
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
 from ..core.params import CLASSIFIER_NODE, elevation_params_from_dict, load_model, model_file
@@ -71,7 +71,7 @@ LOG_PERIOD_S = 5.0
 DIAGNOSTICS_PERIOD_S = 1.0
 
 
-class ClassifierNode(Node):
+class ClassifierNode(PersistsState, Node):
     """
     Gait-cycle features to stair mode, height and floor.
 
@@ -93,8 +93,7 @@ class ClassifierNode(Node):
         self._source_id = self.resolve_topic_name('gait_cycle')
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
-        self._state_writer = StateWriter(self._state_path, self._log_state_error) \
-            if self._persist else None
+        self._start_state_writer(self._state_path, self._persist)
         state, reason = None, 'starting fresh (persist_state is false)'
         if self._persist:
             state, reason = resumable_state(self._state_path, ElevationState, self._source_id,
@@ -201,19 +200,6 @@ class ClassifierNode(Node):
             stamp_ns=self._last_stamp_ns, wall_time_s=time.time(),
             source_id=self._source_id, height_m=self._tracker.height_m,
             floor=self._tracker.floor, cycle_index=self._last_index))
-
-    def _log_state_error(self, err):
-        self.get_logger().error(f'cannot write the state file: {err}',
-                                throttle_duration_sec=LOG_PERIOD_S)
-
-    def _state_write_errors(self) -> int:
-        return self._state_writer.errors if self._state_writer is not None else 0
-
-    def destroy_node(self):
-        """Write the pending state, then destroy the node."""
-        if self._state_writer is not None:
-            self._state_writer.close()
-        super().destroy_node()
 
     def _publish_floor_if_changed(self):
         floor = self._tracker.floor

@@ -291,6 +291,33 @@ class StateWriter:
                 self._on_error(err)
 
 
+class PersistsState:
+    """
+    What both nodes do with their ``StateWriter``: log its errors, count them, flush at the end.
+
+    Mixed in before ``Node``; the node calls ``_start_state_writer`` in its constructor.
+    """
+
+    STATE_ERROR_LOG_PERIOD_S = 5.0
+
+    def _start_state_writer(self, path, persist: bool):
+        """Write state files to ``path`` from now on if ``persist``, else never."""
+        self._state_writer = StateWriter(path, self._log_state_error) if persist else None
+
+    def _log_state_error(self, err):
+        self.get_logger().error(f'cannot write the state file: {err}',
+                                throttle_duration_sec=self.STATE_ERROR_LOG_PERIOD_S)
+
+    def _state_write_errors(self) -> int:
+        return self._state_writer.errors if self._state_writer is not None else 0
+
+    def destroy_node(self):
+        """Write the pending state, then destroy the node."""
+        if self._state_writer is not None:
+            self._state_writer.close()
+        super().destroy_node()
+
+
 # -- stamps -----------------------------------------------------------------------------------
 
 def stamp_to_ns(stamp) -> int:

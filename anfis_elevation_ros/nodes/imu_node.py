@@ -69,7 +69,7 @@ from sensor_msgs.msg import Imu, PointCloud2
 
 from .common import cycle_history_qos, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
-from .common import ns_to_stamp, spin_node, StateWriter
+from .common import ns_to_stamp, PersistsState, spin_node
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
@@ -85,7 +85,7 @@ STRIDE_PERIODS = 5          # recent cycle periods whose median is the stride pe
 MAX_STRIDE_PERIOD_S = 3.0   # longer periods are stops, not strides
 
 
-class ImuNode(Node):
+class ImuNode(PersistsState, Node):
     """
     Foot IMU to gait cycles: input gate, FootNavigator, publishers, diagnostics.
 
@@ -120,8 +120,7 @@ class ImuNode(Node):
         self._imu_topic = self.resolve_topic_name(values['imu_topic'])
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
-        self._state_writer = StateWriter(self._state_path, self._log_state_error) \
-            if self._persist else None
+        self._start_state_writer(self._state_path, self._persist)
         self._state_max_age_s = values['state_max_age_s']
         self._source_id = None        # set by the first accepted IMU message
         self._resumed = False
@@ -282,19 +281,6 @@ class ImuNode(Node):
             heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
             filter_ok=filter_ok, cycles=self._cycle_index,
             stride_period_s=self._stride_period_s()))
-
-    def _log_state_error(self, err):
-        self.get_logger().error(f'cannot write the state file: {err}',
-                                throttle_duration_sec=REJECT_LOG_PERIOD_S)
-
-    def _state_write_errors(self) -> int:
-        return self._state_writer.errors if self._state_writer is not None else 0
-
-    def destroy_node(self):
-        """Write the pending state, then destroy the node."""
-        if self._state_writer is not None:
-            self._state_writer.close()
-        super().destroy_node()
 
     # -- outputs -------------------------------------------------------------------------------
 
