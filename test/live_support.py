@@ -91,23 +91,21 @@ def truth_floors(strides_csv=SAMPLE_STRIDES):
     return int(floors[-1]), int(floors.max())
 
 
-class NodesProcess:
+class BackgroundProcess:
     """
-    ``python -m anfis_elevation_ros run`` in a subprocess; stopped with SIGINT on exit.
+    A command in a subprocess of this checkout; stopped with SIGINT on exit.
 
     Parameters
     ----------
-    params : Path
-        Parameter YAML.
+    command : sequence of str
+        The command line.
     log_path : Path
         Where the process's output goes.
-    extra : sequence of str
-        More arguments for ``run``.
 
     """
 
-    def __init__(self, params, log_path, extra=()):
-        self.command = cli('run', '--params', params, *extra)
+    def __init__(self, command, log_path):
+        self.command = list(command)
         self.log_path = Path(log_path)
         self.proc = None
         self.returncode = None
@@ -138,6 +136,25 @@ class NodesProcess:
     def __exit__(self, *exc):
         self.stop()
         self._log.close()
+
+
+class NodesProcess(BackgroundProcess):
+    """
+    ``python -m anfis_elevation_ros run`` in a subprocess; stopped with SIGINT on exit.
+
+    Parameters
+    ----------
+    params : Path
+        Parameter YAML.
+    log_path : Path
+        Where the process's output goes.
+    extra : sequence of str
+        More arguments for ``run``.
+
+    """
+
+    def __init__(self, params, log_path, extra=()):
+        super().__init__(cli('run', '--params', params, *extra), log_path)
 
 
 def play_at_recorded_pace(bag, publish_log) -> np.ndarray:

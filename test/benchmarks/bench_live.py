@@ -57,8 +57,9 @@ import numpy as np
 TEST_DIR = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(TEST_DIR))
 
-from live_support import cli, cli_env, NodesProcess, PACKAGE_ROOT  # noqa: E402, I100
-from live_support import listening, play_at_recorded_pace, wait_for  # noqa: E402
+from live_support import BackgroundProcess, cli, cli_env, NodesProcess  # noqa: E402, I100
+from live_support import listening, PACKAGE_ROOT, play_at_recorded_pace  # noqa: E402
+from live_support import wait_for  # noqa: E402
 from live_support import write_linear_model, write_params  # noqa: E402
 
 LATENCY_P99_TARGET_MS = 20.0
@@ -120,22 +121,14 @@ while rclpy.ok():
 """
 
 
-def baseline_cpu_pct(bag: Path, publish_log: Path) -> float:
+def baseline_cpu_pct(bag: Path, work: Path) -> float:
     """CPU (% of one core) of BASELINE_SUBSCRIBER while the bag plays at its recorded pace."""
-    proc = subprocess.Popen([sys.executable, '-c', BASELINE_SUBSCRIBER], env=cli_env(),
-                            cwd=PACKAGE_ROOT, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    try:
-        sampler = CpuSampler(proc.pid)
+    with BackgroundProcess([sys.executable, '-c', BASELINE_SUBSCRIBER],
+                           work / 'baseline.log') as baseline:
+        sampler = CpuSampler(baseline.proc.pid)
         sampler.start()
-        published = play_at_recorded_pace(bag, publish_log)
+        published = play_at_recorded_pace(bag, work / 'published_baseline.csv')
         sampler.stop()
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
     return sampler.percent_between(int(published[0, 1]), int(published[-1, 1]))
 
 
@@ -201,7 +194,7 @@ def main(argv=None) -> int:
         'nodes_exit_code': code,
     }
     if args.baseline:
-        baseline_pct = baseline_cpu_pct(bag, work / 'published_baseline.csv')
+        baseline_pct = baseline_cpu_pct(bag, work)
         figures['baseline_subscriber_cpu_pct_of_one_core'] = baseline_pct
         figures['nodes_over_baseline_cpu'] = cpu_pct / baseline_pct
     print(json.dumps(figures, indent=2))
