@@ -116,8 +116,11 @@ node.create_subscription(Imu, '/imu/data', lambda data: None, imu_qos(2000), raw
 executor = EventsExecutor()
 executor.add_node(node)
 never_done = Future()
-while rclpy.ok():
-    executor.spin_until_future_complete(never_done, timeout_sec=0.1)
+try:
+    while rclpy.ok():
+        executor.spin_until_future_complete(never_done, timeout_sec=0.1)
+except KeyboardInterrupt:      # the SIGINT that BackgroundProcess stops it with
+    pass
 """
 
 
