@@ -29,6 +29,7 @@ import sys
 import time
 
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
+from anfis_elevation_ros.core.state import load_state, NavigationState, state_file
 from anfis_elevation_ros.nodes.classifier_node import ClassifierNode
 from anfis_elevation_ros.nodes.common import cycle_to_msg
 from anfis_elevation_ros.nodes.imu_node import ImuNode
@@ -137,7 +138,9 @@ class LiveRun:
         for node in self.nodes:
             self.executor.remove_node(node)
             node.destroy_node()
-        self.executor.shutdown()
+        if self.nodes:
+            self.executor.shutdown()
+        self.nodes = []
 
     @property
     def cycles(self):
@@ -351,6 +354,32 @@ def test_wrong_frame_is_refused(live, clean):
     run = live(overrides={'gate.frame_id': 'imu_link'}).feed(messages)
     assert run.count('rejected_wrong_frame') == len(ks)
     assert_cycles_equal(run.cycles, cycles)
+
+
+def test_imu_clock_reset_after_a_restart_is_handled(live, clean, tmp_path):
+    """
+    A restarted node whose IMU stamps begin before its saved state (the sensor's clock was reset).
+
+    It resumes position and cycle count, does not guess the outage, and goes on navigating and
+    saving its state: stride periods from stamps that went back are not used.
+    """
+    samples, cycles = clean
+    overrides = {'persist_state': True, 'state_dir': str(tmp_path)}
+    first = live(overrides=overrides).feed(clean_messages(samples))
+    first.close()
+    saved = load_state(state_file(tmp_path, '/imu_node'), NavigationState)
+    assert saved.cycles == len(cycles) and saved.stamp_ns == cycles[-1].stamp_ns
+
+    run = live(overrides=overrides).feed(clean_messages(samples))
+    navigator = run.listener.diagnostics[NAVIGATOR][2]
+    assert navigator['resumed'] == 'true' and navigator['outage_cycles'] == '0'
+    assert run.count('internal_errors') == 0
+    assert len(run.cycles) == len(cycles)
+    assert [c.index for c in run.cycles] == list(range(len(cycles) + 1, 2 * len(cycles) + 1))
+    run.close()
+    resaved = load_state(state_file(tmp_path, '/imu_node'), NavigationState)
+    assert resaved.cycles == 2 * len(cycles) and resaved.stamp_ns == cycles[-1].stamp_ns
+    assert 0.1 <= resaved.stride_period_s <= 3.0
 
 
 def test_malformed_cycle_message_is_skipped(live, clean):

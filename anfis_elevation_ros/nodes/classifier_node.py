@@ -119,6 +119,7 @@ class ClassifierNode(PersistsState, Node):
         self._classified = 0
         self._invalid = 0
         self._malformed = 0
+        self._internal_errors = 0
         self._last_mode = 0
         self._floor = self._tracker.floor
 
@@ -138,6 +139,14 @@ class ClassifierNode(PersistsState, Node):
         self._publish_floor_if_changed()
 
     def _on_cycle(self, msg: PointCloud2):
+        try:
+            self._handle_cycle(msg)
+        except Exception as err:   # noqa: B902 a bug must not stop a firefighter's tracking
+            self._internal_errors += 1
+            self.get_logger().error(f'internal error on a gait cycle ({type(err).__name__}: '
+                                    f'{err}); cycle skipped', throttle_duration_sec=LOG_PERIOD_S)
+
+    def _handle_cycle(self, msg: PointCloud2):
         try:
             cycle = cycle_from_msg(msg)
         except InputError as err:
@@ -216,7 +225,9 @@ class ClassifierNode(PersistsState, Node):
             (tracker.unbridged_cycles, 'invalid cycles not bridged'),
             (tracker.implausible_cycles, 'implausible climbs'),
             (self._state_write_errors(), 'failed state writes')) if n]
-        if problems:
+        if self._internal_errors:
+            level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
+        elif problems:
             level, message = DiagnosticStatus.WARN, ', '.join(problems)
         else:
             level, message = DiagnosticStatus.OK, 'ok'
@@ -227,7 +238,8 @@ class ClassifierNode(PersistsState, Node):
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
                   'last_mode': self._last_mode, 'resumed': self._resumed,
-                  'state_write_errors': self._state_write_errors()}
+                  'state_write_errors': self._state_write_errors(),
+                  'internal_errors': self._internal_errors}
         msg = DiagnosticArray(status=[diagnostic_status(
             'classifier_node: elevation', level, message, self._map_frame_id, values)])
         msg.header.stamp = ns_to_stamp(now_ns)

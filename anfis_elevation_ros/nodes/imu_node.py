@@ -82,7 +82,8 @@ REJECT_LOG_PERIOD_S = 5.0
 LOSS_WARN_FRACTION = 0.01   # more lost samples than this (per diagnostics period) is a warning
 MAX_OUTAGE_CYCLES = 3       # a longer outage may hide a stop: its climb is not guessed
 STRIDE_PERIODS = 5          # recent cycle periods whose median is the stride period
-MAX_STRIDE_PERIOD_S = 3.0   # longer periods are stops, not strides
+MIN_STRIDE_PERIOD_S = 0.1   # periods outside these limits are not strides: the clock went
+MAX_STRIDE_PERIOD_S = 3.0   # back, or the firefighter stopped
 
 
 class ImuNode(PersistsState, Node):
@@ -164,6 +165,15 @@ class ImuNode(PersistsState, Node):
     def _on_imu(self, data: bytes):
         self._received += 1
         try:
+            self._handle_imu(data)
+        except Exception as err:   # noqa: B902 a bug must not stop a firefighter's tracking
+            self._internal_errors += 1
+            self.get_logger().error(f'internal error on an IMU sample ({type(err).__name__}: '
+                                    f'{err}); sample skipped',
+                                    throttle_duration_sec=REJECT_LOG_PERIOD_S)
+
+    def _handle_imu(self, data: bytes):
+        try:
             stamp_ns, acc_b, gyr_b, frame_id = imu_sample_from_cdr(data)
         except InputError as err:
             self._malformed += 1
@@ -190,12 +200,6 @@ class ImuNode(PersistsState, Node):
             self.get_logger().error(f'IMU data refused by the navigator: {err}',
                                     throttle_duration_sec=REJECT_LOG_PERIOD_S)
             return
-        except Exception as err:   # noqa: B902 a bug must not stop a firefighter's tracking
-            self._internal_errors += 1
-            self.get_logger().error(f'internal error on an IMU sample ({type(err).__name__}: '
-                                    f'{err}); sample skipped',
-                                    throttle_duration_sec=REJECT_LOG_PERIOD_S)
-            return
         if out is None:
             return
         point, cycle = out
@@ -218,7 +222,7 @@ class ImuNode(PersistsState, Node):
         self._cycle_pub.publish(cycle_to_msg(cycle, self._odom_frame_id, self._cycle_index))
         if self._last_cycle_stamp_ns is not None:
             period_s = (cycle.stamp_ns - self._last_cycle_stamp_ns) * 1e-9
-            if period_s <= MAX_STRIDE_PERIOD_S:
+            if MIN_STRIDE_PERIOD_S <= period_s <= MAX_STRIDE_PERIOD_S:
                 self._periods_s.append(period_s)
         self._last_cycle_stamp_ns = cycle.stamp_ns
 
@@ -229,7 +233,12 @@ class ImuNode(PersistsState, Node):
         """Publish the cycles lost while the node was down as invalid ones (see above)."""
         state, self._resumed_from = self._resumed_from, None
         outage_s = (point.stamp_ns - state.stamp_ns) * 1e-9
-        lost = round(outage_s / state.stride_period_s) if outage_s > 0.0 else 0
+        if outage_s <= 0.0:
+            self.get_logger().warning(
+                'the IMU stamps are earlier than the saved cycle (its clock was reset?): the '
+                'length of the outage and the climb during it are unknown and not counted')
+            return
+        lost = round(outage_s / state.stride_period_s)
         if lost > MAX_OUTAGE_CYCLES:
             self.get_logger().warning(
                 f'{outage_s:.1f} s since the saved cycle: the climb during the outage is '
