@@ -190,10 +190,11 @@ def assert_all_finite(run):
         assert all(math.isfinite(v) for v in item[1:4])
 
 
-def test_clean_input_gives_the_navigator_cycles(live, clean):
-    """Baseline: clean input, nothing refused, the core navigator's cycles."""
+@pytest.mark.parametrize('batch_period_s', [0.01, 0.0])
+def test_clean_input_gives_the_navigator_cycles(live, clean, batch_period_s):
+    """Baseline: clean input, nothing refused, the core navigator's cycles (batched or not)."""
     samples, cycles = clean
-    run = live().feed(clean_messages(samples))
+    run = live(overrides={'imu_batch_period_s': batch_period_s}).feed(clean_messages(samples))
     assert_cycles_equal(run.cycles, cycles)
     assert run.count('accepted') == len(samples)
     assert run.count('rejected') == 0

@@ -26,7 +26,10 @@ Topics
 Subscribes:
     ``imu_topic`` (parameter, default ``/imu/data``), sensor_msgs/Imu, sensor-data QoS with
     depth ``imu_qos_depth`` (2000: 5 s at 400 Hz; with 200 a loaded two-core machine dropped
-    messages when the imu node fell behind for a moment).
+    messages when the imu node fell behind for a moment). A thread of the node takes the
+    messages in batches every ``imu_batch_period_s`` (8 ms; ``PolledSubscription``, its helper
+    node is ``<node name>_input``): at 400 Hz about a fifth less CPU than one executor
+    callback per message, for at most 8 ms more latency. 0 gives one callback per message.
 Publishes:
     ``gait_cycle``, sensor_msgs/PointCloud2, reliable, transient local, depth
     ``cycle_history`` (3600): one message per gait cycle (invalid ones too, flagged), one
@@ -59,6 +62,7 @@ restart in the middle of a stair flight is bridged like any gap (``core/height.p
 
 from collections import deque
 import sys
+import threading
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -69,7 +73,7 @@ from sensor_msgs.msg import Imu, PointCloud2
 
 from .common import cycle_history_qos, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
-from .common import ns_to_stamp, PersistsState, spin_node
+from .common import ns_to_stamp, PersistsState, PolledSubscription, spin_node
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
@@ -138,10 +142,16 @@ class ImuNode(PersistsState, Node):
         compile_s = compile_navigator()    # before subscribing: no message waits for numba
         if compile_s > 1.0:
             self.get_logger().info(f'navigator compiled in {compile_s:.0f} s (cached from now on)')
-        # raw=True: the callback decodes the CDR bytes itself (imu_sample_from_cdr), which
+        # Raw messages: _on_imu decodes the CDR bytes itself (imu_sample_from_cdr), which
         # halves the cost of a message compared with building the Python Imu object.
-        self.create_subscription(Imu, values['imu_topic'], self._on_imu,
-                                 imu_qos(values['imu_qos_depth']), raw=True)
+        self._lock = threading.Lock()    # the input thread's batches against the callbacks
+        self._input = None
+        qos = imu_qos(values['imu_qos_depth'])
+        if values['imu_batch_period_s'] > 0.0:
+            self._input = PolledSubscription(self, Imu, self._imu_topic, qos, self._on_imu,
+                                             values['imu_batch_period_s'], self._lock)
+        else:
+            self.create_subscription(Imu, values['imu_topic'], self._on_imu, qos, raw=True)
         if values['track_rate_hz'] > 0.0:
             self.create_timer(1.0 / values['track_rate_hz'], self._publish_track)
         self.create_timer(1.0 / values['diagnostics_rate_hz'], self._publish_diagnostics)
@@ -156,8 +166,9 @@ class ImuNode(PersistsState, Node):
         gate_params_from_dict(values)
 
     def _apply_parameters(self, values, changed):
-        self._gate.set_params(gate_params_from_dict(values))
-        self._imu_frame_id = values['gate.frame_id']
+        with self._lock:
+            self._gate.set_params(gate_params_from_dict(values))
+            self._imu_frame_id = values['gate.frame_id']
         self.get_logger().info(f'parameters changed: {", ".join(changed)}')
 
     # -- input ---------------------------------------------------------------------------------
@@ -294,6 +305,10 @@ class ImuNode(PersistsState, Node):
     # -- outputs -------------------------------------------------------------------------------
 
     def _publish_track(self):
+        with self._lock:
+            self._publish_latest_point()
+
+    def _publish_latest_point(self):
         point = self._last_point
         if point is None or point is self._published_point:
             return
@@ -381,7 +396,16 @@ class ImuNode(PersistsState, Node):
         return msg
 
     def _publish_diagnostics(self):
-        self._diag_pub.publish(self.diagnostics(self.get_clock().now().nanoseconds))
+        with self._lock:
+            msg = self.diagnostics(self.get_clock().now().nanoseconds)
+        self._diag_pub.publish(msg)
+
+    def destroy_node(self):
+        """Handle the Imu messages already received, then write the state and destroy."""
+        if self._input is not None:
+            self._input.close()
+            self._input = None
+        super().destroy_node()
 
     @property
     def gate(self) -> InputGate:

@@ -52,6 +52,7 @@ import tempfile
 import threading
 import time
 
+from anfis_elevation_ros.core.params import IMU_NODE, node_specs
 import numpy as np
 
 TEST_DIR = Path(__file__).resolve().parents[1]
@@ -105,14 +106,21 @@ class CpuSampler(threading.Thread):
 
 # A subscriber that receives the Imu stream as the IMU node does and does nothing with it.
 BASELINE_SUBSCRIBER = """
+import sys
+import threading
 import rclpy
 from rclpy.experimental import EventsExecutor
 from rclpy.task import Future
 from sensor_msgs.msg import Imu
-from anfis_elevation_ros.nodes.common import imu_qos
+from anfis_elevation_ros.nodes.common import imu_qos, PolledSubscription
 rclpy.init()
 node = rclpy.create_node('baseline_imu_subscriber')
-node.create_subscription(Imu, '/imu/data', lambda data: None, imu_qos(2000), raw=True)
+batch_period_s = float(sys.argv[1])
+if batch_period_s > 0.0:
+    polled = PolledSubscription(node, Imu, '/imu/data', imu_qos(2000), lambda data: None,
+                                batch_period_s, threading.Lock())
+else:
+    node.create_subscription(Imu, '/imu/data', lambda data: None, imu_qos(2000), raw=True)
 executor = EventsExecutor()
 executor.add_node(node)
 never_done = Future()
@@ -124,9 +132,9 @@ except KeyboardInterrupt:      # the SIGINT that BackgroundProcess stops it with
 """
 
 
-def baseline_cpu_pct(bag: Path, work: Path) -> float:
+def baseline_cpu_pct(bag: Path, work: Path, batch_period_s: float) -> float:
     """CPU (% of one core) of BASELINE_SUBSCRIBER while the bag plays at its recorded pace."""
-    with BackgroundProcess([sys.executable, '-c', BASELINE_SUBSCRIBER],
+    with BackgroundProcess([sys.executable, '-c', BASELINE_SUBSCRIBER, str(batch_period_s)],
                            work / 'baseline.log') as baseline:
         sampler = CpuSampler(baseline.proc.pid)
         sampler.start()
@@ -154,6 +162,8 @@ def main(argv=None) -> int:
     parser.add_argument('--seed', type=int, default=7, help='simulation seed')
     parser.add_argument('--executor', choices=('events', 'single'), default='events',
                         help='executor of the nodes')
+    parser.add_argument('--batch-period-s', type=float, default=None,
+                        help="the imu node's imu_batch_period_s (default: the node's default)")
     parser.add_argument('--baseline', action='store_true',
                         help='then play the bag to a do-nothing subscriber and compare CPU')
     parser.add_argument('--json', type=Path, default=None, help='write the figures here')
@@ -163,7 +173,11 @@ def main(argv=None) -> int:
     os.environ.setdefault('ROS_DOMAIN_ID', str(os.getpid() % 101 + 1))
     work = Path(tempfile.mkdtemp(prefix='bench_live_'))
     bag = simulate(work / 'walk', args.scenario, args.rate_hz, args.seed)
-    params = write_params(work / 'params.yaml', write_linear_model(work / 'model.json'))
+    batch_period_s = args.batch_period_s
+    if batch_period_s is None:
+        batch_period_s = node_specs(IMU_NODE)['imu_batch_period_s'].default
+    params = write_params(work / 'params.yaml', write_linear_model(work / 'model.json'),
+                          imu={'imu_batch_period_s': batch_period_s})
     publish_log = work / 'published.csv'
     print(f'[bench] {args.scenario} walk at {args.rate_hz:g} Hz in {bag}; load average '
           f'{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores', file=sys.stderr)
@@ -188,6 +202,7 @@ def main(argv=None) -> int:
     lost = len(published) - received
     figures = {
         'scenario': args.scenario, 'rate_hz': args.rate_hz, 'executor': args.executor,
+        'imu_batch_period_s': batch_period_s,
         'imu_messages_published': len(published), 'imu_messages_received': received,
         'lost_imu_messages': lost, 'cycles': len(latencies_ms),
         'latency_ms_p50': float(np.percentile(latencies_ms, 50)) if len(latencies_ms) else None,
@@ -197,7 +212,7 @@ def main(argv=None) -> int:
         'nodes_exit_code': code,
     }
     if args.baseline:
-        baseline_pct = baseline_cpu_pct(bag, work)
+        baseline_pct = baseline_cpu_pct(bag, work, batch_period_s)
         figures['baseline_subscriber_cpu_pct_of_one_core'] = baseline_pct
         figures['nodes_over_baseline_cpu'] = cpu_pct / baseline_pct
     print(json.dumps(figures, indent=2))
