@@ -124,7 +124,8 @@ class PolledSubscription:
     arrived in the last period in one go (test/benchmarks/bench_live.py, 400 Hz, both nodes)
     cut the nodes' CPU by 24 % at 10 ms (three alternating runs: 7.2 % against 9.5 % of one
     core) and by 5 % at 5 ms, for at most one period more latency: 8 ms, the IMU node's
-    default, gave 7.8 % and a p99 latency of 13 ms on the 10-minute walk.
+    default, gave 7.8 % in two runs of the 10-minute walk, with a p99 latency of 13 ms in one
+    and 22 ms in the other (one callback per message: 7 and 10 ms, but 9.2 and 10.8 % CPU).
 
     The subscription belongs to a helper node, ``<node name>_input``, that no executor spins
     (an executor would take its messages first); it has no global arguments (the topic comes
