@@ -32,9 +32,9 @@ handed to the middleware), and this script, which subscribes to /elevation and /
   (its /diagnostics). Target: 0.
 
 With ``--baseline`` the same bag is then played to a subscriber that does nothing with the
-messages (same QoS, raw messages, the events executor run as the nodes run it), and its CPU
-is printed beside the nodes' with their ratio: the share of rclpy and DDS in the figure, and a
-comparison that holds when the host's speed changes between runs.
+messages (same QoS, raw messages taken as the IMU node takes them, the nodes' ``Spinner``), and
+its CPU is printed beside the nodes' with their ratio: the share of rclpy and DDS in the figure,
+and a comparison that holds when the host's speed changes between runs.
 
 The model is a fixed linear one (``test/live_support.py``), so the figures do not depend on the
 trained default. Prints the figures, writes them as JSON with ``--json``, and exits 1 if a
@@ -109,10 +109,8 @@ BASELINE_SUBSCRIBER = """
 import sys
 import threading
 import rclpy
-from rclpy.experimental import EventsExecutor
-from rclpy.task import Future
 from sensor_msgs.msg import Imu
-from anfis_elevation_ros.nodes.common import imu_qos, PolledSubscription
+from anfis_elevation_ros.nodes.common import imu_qos, PolledSubscription, Spinner
 rclpy.init()
 node = rclpy.create_node('baseline_imu_subscriber')
 batch_period_s = float(sys.argv[1])
@@ -121,12 +119,10 @@ if batch_period_s > 0.0:
                                 batch_period_s, threading.Lock())
 else:
     node.create_subscription(Imu, '/imu/data', lambda data: None, imu_qos(2000), raw=True)
-executor = EventsExecutor()
-executor.add_node(node)
-never_done = Future()
+spinner = Spinner('events')
+spinner.add_node(node)
 try:
-    while rclpy.ok():
-        executor.spin_until_future_complete(never_done, timeout_sec=0.1)
+    spinner.spin()
 except KeyboardInterrupt:      # the SIGINT that BackgroundProcess stops it with
     pass
 """
