@@ -144,6 +144,8 @@ class PolledSubscription:
     handler : callable
         Called with the serialised bytes of each message, in the thread, with ``lock`` held
         over a batch: the owner holds the same lock in its callbacks that share state with it.
+        It must catch its own errors: one that escapes ends the thread (the IMU node's
+        ``_on_imu`` counts them as internal errors).
     period_s : float
         Time between batches, s.
     lock : threading.Lock
