@@ -136,3 +136,23 @@ def test_the_attitude_is_relevelled_at_the_stance_after_a_gap():
     assert after.shape == reference.shape
     assert np.max(np.abs(after[:, :4] - reference[:, :4])) < 0.01      # m
     assert np.max(np.abs(after[:, 4] - reference[:, 4])) < np.radians(1.0)
+
+
+@pytest.mark.parametrize('rate_hz', [100.0, 400.0])
+def test_the_sample_that_closes_a_cycle_is_foreseen(rate_hz):
+    # Once the foot is still in a swing, samples_to_stance counts down to the closing sample.
+    w = walk(rate_hz=rate_hz)
+    nav = FootNavigator()
+    needed = nav.params.zupt.min_stance_samples(rate_hz)
+    foreseen, closing = [], []
+    for k, (t, a, g) in enumerate(zip(*arrays(w))):
+        out = nav.step(int(t), a, g)
+        foreseen.append(nav.samples_to_stance)
+        if out is not None and out[1] is not None:
+            closing.append(k)
+    assert len(closing) >= 8 and needed > 1
+    for k in closing:
+        assert foreseen[k] is None                                 # in stance now
+        assert foreseen[k - needed + 1:k] == list(range(needed - 1, 0, -1)), k
+    # Outside the still run before a stance nothing is foreseen.
+    assert foreseen.count(None) > 0.5 * len(foreseen)

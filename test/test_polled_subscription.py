@@ -93,3 +93,27 @@ def test_close_handles_the_messages_already_received(ros):
     assert len(handled) == 5
     source.destroy_node()
     owner.destroy_node()
+
+
+def test_a_foreseen_message_is_taken_when_due_not_a_period_later(ros):
+    owner = rclpy.create_node('polled_owner')
+    source = rclpy.create_node('polled_source')
+    publisher = source.create_publisher(Imu, TOPIC, PLAYER_QOS)
+    handled, foreseen = [], [0.01]
+    polled = PolledSubscription(owner, Imu, TOPIC, imu_qos(100), handled.append, 1.0,
+                                threading.Lock(), due_s=lambda: foreseen[0])
+    assert wait_for(lambda: publisher.get_subscription_count() == 1)
+    time.sleep(1.2)                      # past the first period: now polled every 11 ms
+    sent = time.monotonic()
+    publisher.publish(Imu())
+    assert wait_for(lambda: len(handled) == 1, 0.5)
+    assert time.monotonic() - sent < 0.2
+    foreseen[0] = None                   # nothing foreseen: back to the 1 s period
+    time.sleep(0.05)
+    publisher.publish(Imu())
+    time.sleep(0.3)
+    assert len(handled) == 1
+    assert wait_for(lambda: len(handled) == 2, 2.0)
+    polled.close()
+    source.destroy_node()
+    owner.destroy_node()

@@ -429,6 +429,21 @@ class FootNavigator:
         return status
 
     @property
+    def samples_to_stance(self):
+        """
+        Return the samples still needed for a stance to count (None unless the foot is still).
+
+        After c still samples, c < ``min_stance_samples``, the (min_stance_samples - c)-th
+        sample from now is the first stance sample if the foot stays still, and it closes the
+        gait cycle. The IMU node wakes its input thread when that sample is due instead of a
+        whole batch period later.
+        """
+        if not self._status.initialised:
+            return None
+        still, needed = self._counts[STILL_SAMPLES], self._counts[MIN_STANCE_SAMPLES]
+        return int(needed - still) if 0 < still < needed else None
+
+    @property
     def heading_rad(self) -> float:
         """Return the yaw of the IMU (ZYX Euler), rad; 0 before start-up."""
         return float(dcm_to_rpy(self._C_nb)[2]) if self._status.initialised else 0.0
