@@ -353,7 +353,7 @@ class StateWriter:
     newer one arrives is dropped (only the latest matters after a crash). ``close`` writes what
     is pending and stops the thread.
 
-    The write starts ``delay_s`` after the submit: a state comes with a gait cycle, just when
+    The write starts ``DELAY_S`` after the submit: a state comes with a gait cycle, just when
     the cycle is being classified and published, and the writer's Python work (building and
     checking the JSON) would take the interpreter lock from those callbacks. Strides are about
     a second apart, so every cycle's state is still written.
@@ -365,18 +365,15 @@ class StateWriter:
     on_error : callable
         Called with the OSError or InputError of a failed write (from the writer's thread);
         ``errors`` counts them.
-    delay_s : float
-        Time between a submit and the write, s.
 
     """
 
-    DELAY_S = 0.1
+    DELAY_S = 0.1     # s, between a submit and the write
 
-    def __init__(self, path, on_error, delay_s: float = DELAY_S):
+    def __init__(self, path, on_error):
         self.path = path
         self.errors = 0
         self._on_error = on_error
-        self._delay_s = delay_s
         self._pending = None
         self._closed = False
         self._wake = threading.Condition()
@@ -401,7 +398,7 @@ class StateWriter:
             with self._wake:
                 while self._pending is None and not self._closed:
                     self._wake.wait()
-                write_at = time.monotonic() + self._delay_s
+                write_at = time.monotonic() + self.DELAY_S
                 while not self._closed and time.monotonic() < write_at:
                     self._wake.wait(write_at - time.monotonic())
                 state, self._pending = self._pending, None
