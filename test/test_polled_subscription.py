@@ -34,6 +34,16 @@ def ros():
     rclpy.try_shutdown()
 
 
+@pytest.fixture
+def endpoints(ros):
+    """(owner node, publisher on TOPIC from another node); both destroyed after the test."""
+    owner = rclpy.create_node('polled_owner')
+    source = rclpy.create_node('polled_source')
+    yield owner, source.create_publisher(Imu, TOPIC, PLAYER_QOS)
+    source.destroy_node()
+    owner.destroy_node()
+
+
 def wait_for(condition, timeout_s=10.0):
     deadline = time.monotonic() + timeout_s
     while not condition() and time.monotonic() < deadline:
@@ -41,10 +51,8 @@ def wait_for(condition, timeout_s=10.0):
     return condition()
 
 
-def test_messages_are_taken_once_in_order_in_batches_under_the_lock(ros):
-    owner = rclpy.create_node('polled_owner')
-    source = rclpy.create_node('polled_source')
-    publisher = source.create_publisher(Imu, TOPIC, PLAYER_QOS)
+def test_messages_are_taken_once_in_order_in_batches_under_the_lock(endpoints):
+    owner, publisher = endpoints
     lock = threading.Lock()
     handled, batches, held = [], [], []
 
@@ -71,16 +79,11 @@ def test_messages_are_taken_once_in_order_in_batches_under_the_lock(ros):
     assert all(held)
     assert max(count for count, _ in batches) > 1, 'the messages should come in batches'
     assert len(batches) < n / 2
-
     polled.close()
-    source.destroy_node()
-    owner.destroy_node()
 
 
-def test_close_handles_the_messages_already_received(ros):
-    owner = rclpy.create_node('polled_owner')
-    source = rclpy.create_node('polled_source')
-    publisher = source.create_publisher(Imu, TOPIC, PLAYER_QOS)
+def test_close_handles_the_messages_already_received(endpoints):
+    owner, publisher = endpoints
     handled = []
     polled = PolledSubscription(owner, Imu, TOPIC, imu_qos(100), handled.append, 60.0,
                                 threading.Lock())
@@ -91,14 +94,10 @@ def test_close_handles_the_messages_already_received(ros):
     assert handled == []
     polled.close()
     assert len(handled) == 5
-    source.destroy_node()
-    owner.destroy_node()
 
 
-def test_a_foreseen_message_is_taken_when_due_not_a_period_later(ros):
-    owner = rclpy.create_node('polled_owner')
-    source = rclpy.create_node('polled_source')
-    publisher = source.create_publisher(Imu, TOPIC, PLAYER_QOS)
+def test_a_foreseen_message_is_taken_when_due_not_a_period_later(endpoints):
+    owner, publisher = endpoints
     handled, foreseen = [], [0.01]
     polled = PolledSubscription(owner, Imu, TOPIC, imu_qos(100), handled.append, 1.0,
                                 threading.Lock(), due_s=lambda: foreseen[0])
@@ -115,5 +114,3 @@ def test_a_foreseen_message_is_taken_when_due_not_a_period_later(ros):
     assert len(handled) == 1
     assert wait_for(lambda: len(handled) == 2, 2.0)
     polled.close()
-    source.destroy_node()
-    owner.destroy_node()
