@@ -31,7 +31,7 @@ TRACK_SCRIPT = """
 import json, sys
 import numpy as np
 from anfis_elevation_ros.core.navigator import FootNavigator
-from anfis_elevation_ros.core.sim import sample_walk, simulate_walk
+from anfis_elevation_ros.sim import sample_walk, simulate_walk
 walk = simulate_walk(sample_walk(), rng=np.random.default_rng(5), rate_hz=100.0, imu='consumer')
 n = 1000
 track, cycles = FootNavigator().run(walk.stamp_ns[:n], walk.acc_b[:n], walk.gyr_b[:n])

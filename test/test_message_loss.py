@@ -32,7 +32,7 @@ IMU node puts it in /diagnostics; test_bad_input_live.py checks that part).
 
 from dataclasses import replace
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.height import floor_index
 from anfis_elevation_ros.core.imu_data import ImuRecording
 from anfis_elevation_ros.core.params import load_model, load_pipeline_params

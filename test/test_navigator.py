@@ -16,7 +16,7 @@
 
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
-from anfis_elevation_ros.core.sim import sample_walk, Segment, simulate_walk
+from anfis_elevation_ros.sim import sample_walk, Segment, simulate_walk
 import numpy as np
 import pytest
 

@@ -16,7 +16,7 @@
 
 import csv
 
-from anfis_elevation_ros.core.sim import Segment, simulate_walk
+from anfis_elevation_ros.sim import Segment, simulate_walk
 from anfis_elevation_ros.tools.bags import write_imu_bag
 from anfis_elevation_ros.tools.cli import main
 import numpy as np

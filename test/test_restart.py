@@ -35,7 +35,7 @@ import subprocess
 import sys
 import time
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.height import floor_index
 from anfis_elevation_ros.core.imu_data import ImuRecording
 from anfis_elevation_ros.core.params import load_pipeline_params

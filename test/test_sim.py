@@ -17,10 +17,11 @@
 import dataclasses
 import math
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.frames import rpy_to_dcm
 from anfis_elevation_ros.core.strapdown import strapdown
+from anfis_elevation_ros.sim import motion
 import numpy as np
 import pytest
 
@@ -101,8 +102,8 @@ def test_ideal_signals_match_attitude_and_velocity_derivatives():
 
 def test_knot_chains_have_exact_derivatives_and_never_dwell():
     # A chain with extrema, a monotone knot and a knot with given derivatives, as swings use.
-    knots = sim._knots((0.0, 0.0), (0.3, -0.6), (0.6, 0.1, None), (0.8, 0.5),
-                       (0.9, 0.45, -1.0, -20.0), (1.0, 0.0))
+    knots = motion._knots((0.0, 0.0), (0.3, -0.6), (0.6, 0.1, None), (0.8, 0.5),
+                          (0.9, 0.45, -1.0, -20.0), (1.0, 0.0))
     u, y, v, a = knots
     assert v[0] == a[0] == v[-1] == a[-1] == 0.0                    # at rest at both ends
     assert v[1] == 0.0 and a[1] == pytest.approx(2 * (0.7 / 0.3 + 2.0) / 0.6)   # extremum

@@ -23,7 +23,7 @@ small data with fixed floors.
 import json
 from pathlib import Path
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.anfis import Anfis
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.gait import FEATURE_NAMES

@@ -29,7 +29,7 @@ import time
 import numpy as np
 
 from .bags import write_imu_bag
-from ..core import sim
+from .. import sim
 from ..core.errors import InputError
 
 TRUTH_COLUMNS = ('stamp_ns', 'x_m', 'y_m', 'z_m', 'qw', 'qx', 'qy', 'qz', 'stance')

@@ -82,7 +82,7 @@ import numpy as np
 from . import labels as lab
 from .metrics import confusion_matrix
 from .replay import navigated_samples
-from ..core import sim
+from .. import sim
 from ..core.anfis import Anfis
 from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES
@@ -109,8 +109,10 @@ DEFAULT_RANGE_QUANTILE = 0.005
 THRESHOLD_GRID = tuple(round(0.05 * k, 2) for k in range(1, 20))
 """Candidate sigma_th of eq. 13 (0.05 ... 0.95): ElevationParams accepts [0, 1]."""
 CACHE_VERSION = 1
-PIPELINE_MODULES = ('input_gate', 'navigator', 'imu_data')
-"""Core modules whose source, with that of every core module they import, keys the cache."""
+PIPELINE_MODULES = ('core.input_gate', 'core.navigator', 'core.imu_data')
+"""Modules whose source, with that of every module of the package they import, keys the cache."""
+SIM_PACKAGE = 'sim'
+PACKAGE_ROOT = Path(__file__).resolve().parents[1]
 PROGRESS_PERIOD_S = 5.0
 SOURCES = ('sim', 'hugadb', 'bag')
 
@@ -361,22 +363,36 @@ def navigate_spec(spec, pipeline: Pipeline) -> NavigatedRecording:
 # Feature cache
 # ---------------------------------------------------------------------------------------------
 
-def _core_closure(roots) -> list:
-    """Core modules that the given core modules import, directly or not (themselves included)."""
-    core = Path(__file__).resolve().parents[1] / 'core'
+def _module_file(name: str) -> Path:
+    """File of a module of this package named relative to it ('core.navigator', 'sim')."""
+    path = PACKAGE_ROOT.joinpath(*name.split('.'))
+    return path.with_suffix('.py') if path.with_suffix('.py').is_file() else path / '__init__.py'
+
+
+def _module_closure(roots) -> list:
+    """
+    Modules of this package that the given ones import, directly or not (themselves included).
+
+    Names are relative to the package ('core.navigator'); only relative imports count (the
+    package's own modules import each other that way).
+    """
     seen, todo = set(), list(roots)
     while todo:
         name = todo.pop()
         if name in seen:
             continue
         seen.add(name)
-        tree = ast.parse((core / f'{name}.py').read_text(encoding='utf-8'))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.ImportFrom) and node.level == 1:
-                if node.module:
-                    todo.append(node.module.split('.')[0])
-                else:
-                    todo.extend(alias.name for alias in node.names)
+        path = _module_file(name)
+        package = name.split('.') if path.name == '__init__.py' else name.split('.')[:-1]
+        for node in ast.walk(ast.parse(path.read_text(encoding='utf-8'))):
+            if not isinstance(node, ast.ImportFrom) or node.level == 0:
+                continue
+            base = package[:len(package) - node.level + 1]
+            if node.module:
+                todo.append('.'.join(base + node.module.split('.')))
+            else:
+                todo.extend('.'.join(base + [alias.name]) for alias in node.names
+                            if _module_file('.'.join(base + [alias.name])).is_file())
     return sorted(seen)
 
 
@@ -415,12 +431,12 @@ def pipeline_fingerprint(with_sim: bool = False, sim_only: bool = False) -> str:
     default model current. With ``with_sim`` the simulator (and its imports) count too; with
     ``sim_only`` only they do.
     """
-    core = Path(__file__).resolve().parents[1] / 'core'
-    roots = ('sim',) if sim_only else PIPELINE_MODULES + (('sim',) if with_sim else ())
+    sim_roots = (SIM_PACKAGE,) if with_sim or sim_only else ()
+    roots = sim_roots if sim_only else PIPELINE_MODULES + sim_roots
     digest = hashlib.sha256()
-    for name in _core_closure(roots):
+    for name in _module_closure(roots):
         digest.update(name.encode())
-        digest.update(_code_of(core / f'{name}.py').encode())
+        digest.update(_code_of(_module_file(name)).encode())
     return digest.hexdigest()
 
 

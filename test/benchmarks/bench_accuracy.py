@@ -25,7 +25,7 @@ import time
 
 from anfis_elevation_ros.core.navigator import FootNavigator
 from anfis_elevation_ros.core.params import load_model, load_pipeline_params
-from anfis_elevation_ros.core.sim import building_walk, simulate_walk
+from anfis_elevation_ros.sim import building_walk, simulate_walk
 from anfis_elevation_ros.tools.datasets import (
     dataset_files, load_mad_stairs, load_pyshoe_vicon, load_xio)
 from anfis_elevation_ros.tools.metrics import pyshoe_position_error

@@ -45,7 +45,7 @@ from pathlib import Path
 import sys
 import time
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.anfis import Anfis
 from anfis_elevation_ros.core.height import ElevationParams, stair_mode
 from anfis_elevation_ros.core.params import load_pipeline_params

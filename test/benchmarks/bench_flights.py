@@ -39,7 +39,7 @@ import argparse
 import sys
 import time
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 import numpy as np
 

@@ -89,7 +89,7 @@ import threading
 import time
 from types import SimpleNamespace
 
-from anfis_elevation_ros.core import sim
+from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.height import ElevationTracker, floor_index
 from anfis_elevation_ros.core.input_gate import InputGate
 from anfis_elevation_ros.core.navigator import FootNavigator

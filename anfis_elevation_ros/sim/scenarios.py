@@ -1,0 +1,181 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Walk plans of the tools and benchmarks.
+
+The seed's building walk, random training walks, the bundled sample walk.
+
+Public API: ``building_walk``, ``random_walk``, ``sample_walk``, ``nominal_duration_s``.
+"""
+
+import numpy as np
+
+from .motion import draw_uniform, segment_strides
+from .plan import check_range, DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, GaitParams
+from .plan import Segment
+from ..core.errors import InputError
+
+
+def nominal_duration_s(segments, gait: GaitParams = GaitParams(),
+                       step_height_m: float = 0.17) -> float:
+    """
+    Return the expected duration of the segments alone (mid-range stride times), s.
+
+    Excludes simulate_walk's initial and final stands.
+    """
+    total = 0.0
+    for seg in segments:
+        if seg.kind == 'stand':
+            total += seg.duration_s
+            continue
+        for n_steps, *_ in segment_strides(seg, step_height_m):
+            if seg.kind == 'level':
+                total += sum(gait.level_stride_s) / 2
+            elif seg.kind == 'turn':
+                total += sum(gait.turn_stride_s) / 2
+            else:
+                total += (sum(gait.stair_stride_base_s)
+                          + n_steps * sum(gait.stair_stride_per_step_s)) / 2
+    return total
+
+
+def building_walk(*, step_height_m: float = 0.15, steps_per_flight: int = 18,
+                  steps_per_stride: int = 2, total_duration_s: float = 640.0,
+                  gait: GaitParams = GaitParams()) -> tuple:
+    """
+    Plan the issue's seed replica: down two flights, a long level walk, back up the stairs.
+
+    Plan: start upstairs (walk 20 strides to the stairwell, stand 10 s), down 2 flights of
+    ``steps_per_flight`` steps of ``step_height_m`` with a 180 deg landing turn, about 500 s of
+    level walking in out-and-back corridor legs with turns while walking, turns on the spot and
+    stops, then turn round and back up both flights, walk 20 strides and stand. The level part
+    is sized so that the walk, with simulate_walk's default stands, lasts about
+    ``total_duration_s`` (640 s: 36 steps x 0.15 m = 5.4 m down and up).
+
+    Returns
+    -------
+    tuple of Segment, for simulate_walk.
+
+    """
+    check_range('total_duration_s', total_duration_s, 200.0, 1e5)
+    flight = {'steps_per_stride': steps_per_stride, 'step_height_m': step_height_m}
+    down = (Segment.stairs(steps_per_flight, -1, **flight),
+            Segment.level(2, turn_deg=180.0, stride_length_m=0.7),
+            Segment.stairs(steps_per_flight, -1, **flight))
+    up = (Segment.turn(180.0),
+          Segment.stairs(steps_per_flight, +1, **flight),
+          Segment.level(2, turn_deg=-180.0, stride_length_m=0.7),
+          Segment.stairs(steps_per_flight, +1, **flight))
+    head = (Segment.level(20), Segment.stand(10.0)) + down
+    tail = up + (Segment.level(20), Segment.stand(5.0))
+    block = (Segment.level(20), Segment.level(3, turn_deg=90.0), Segment.level(12),
+             Segment.stand(8.0), Segment.turn(180.0), Segment.level(12),
+             Segment.level(3, turn_deg=-90.0), Segment.level(20), Segment.stand(12.0),
+             Segment.turn(-180.0))
+    budget = (total_duration_s - DEFAULT_INITIAL_STAND_S - DEFAULT_FINAL_STAND_S
+              - nominal_duration_s(head + tail, gait))
+    middle = ()
+    while nominal_duration_s(middle + block, gait) <= budget:
+        middle += block
+    stride_s = sum(gait.level_stride_s) / 2
+    rest = budget - nominal_duration_s(middle, gait)
+    if rest >= 2 * stride_s:
+        # Out and back along the same corridor for the remaining time.
+        half = int((rest - 2 * sum(gait.turn_stride_s)) / (2 * stride_s))
+        if half >= 1:
+            middle += (Segment.level(half), Segment.turn(180.0), Segment.level(half),
+                       Segment.turn(180.0))
+    return head + middle + tail
+
+
+def random_walk(duration_s: float, rng: np.random.Generator, *,
+                step_height_range_m: tuple = (0.14, 0.19),
+                steps_per_stride_weights: tuple = (0.35, 0.5, 0.1, 0.05),
+                max_floors: int = 3, gait: GaitParams = GaitParams()) -> tuple:
+    """
+    Plan a random mixture of level walking, stair flights, turns and stops (training data).
+
+    Activities are drawn until the nominal duration reaches ``duration_s`` (minus simulate_walk's
+    default stands): level walks of 3-15 strides (straight or turning up to 180 deg), stair
+    flights of 6-20 steps (often two flights with a landing turn) with a riser height drawn per
+    staircase from ``step_height_range_m`` and steps per stride 1..4 drawn with
+    ``steps_per_stride_weights``, turns on the spot of 45-180 deg and stops of 2-10 s. The floor
+    stays within +-``max_floors`` flights of the start.
+
+    Returns
+    -------
+    tuple of Segment, for simulate_walk (its duration is within a few strides of duration_s).
+
+    """
+    check_range('duration_s', duration_s, 5.0, 1e6)
+    if not isinstance(rng, np.random.Generator):
+        raise InputError(f'rng must be a numpy.random.Generator, got {type(rng).__name__}')
+    low, high = step_height_range_m
+    check_range('step_height_range_m[0]', low, 0.05, 0.30)
+    check_range('step_height_range_m[1]', high, low, 0.30)
+    weights = np.asarray(steps_per_stride_weights, dtype=float)
+    if weights.shape != (4,) or np.any(weights < 0) or weights.sum() <= 0:
+        raise InputError(f'steps_per_stride_weights={steps_per_stride_weights} must be 4 '
+                         'non-negative weights for 1, 2, 3, 4 steps per stride')
+    weights = weights / weights.sum()
+    budget = duration_s - DEFAULT_INITIAL_STAND_S - DEFAULT_FINAL_STAND_S
+    segments = []
+    elapsed = 0.0
+    floor = 0
+    while elapsed < budget:
+        activity = rng.choice(4, p=(0.4, 0.3, 0.15, 0.15))
+        if activity == 0:
+            turn = float(rng.choice((0.0, 0.0, 0.0, 45.0, 90.0, 180.0))) * rng.choice((-1, 1))
+            n = int(rng.integers(3, 16))
+            new = [Segment.level(n, turn_deg=turn if abs(turn) <= 60.0 * n else 0.0)]
+        elif activity == 1:
+            direction = int(rng.choice((-1, 1)))
+            if abs(floor + direction) > max_floors:
+                direction = -direction
+            flights = 2 if rng.uniform() < 0.6 else 1
+            k = draw_uniform(rng, (low, high))
+            steps = int(rng.integers(6, 21))
+            per_stride = int(rng.choice(4, p=weights)) + 1
+            side = float(rng.choice((-1.0, 1.0)))
+            new = [Segment.level(1)]
+            for j in range(flights):
+                if j:
+                    new.append(Segment.level(2, turn_deg=180.0 * side, stride_length_m=0.7))
+                new.append(Segment.stairs(steps, direction, steps_per_stride=per_stride,
+                                          step_height_m=k))
+            floor += direction
+        elif activity == 2:
+            new = [Segment.turn(draw_uniform(rng, (45.0, 180.0)) * rng.choice((-1, 1)))]
+        else:
+            new = [Segment.stand(draw_uniform(rng, (2.0, 10.0)))]
+        segments.extend(new)
+        elapsed += nominal_duration_s(new, gait)
+    return tuple(segments)
+
+
+def sample_walk() -> tuple:
+    """
+    Plan a short demo walk (about 65 s): level, a flight up, turn, the flight down, level.
+
+    Stair segments leave the riser height to simulate_walk's ``step_height_m``.
+    """
+    return (Segment.level(15),
+            Segment.stairs(14, +1),
+            Segment.level(1, stride_length_m=0.5),
+            Segment.stand(5.0),
+            Segment.turn(180.0),
+            Segment.stairs(14, -1),
+            Segment.level(15),
+            Segment.stand(5.0))
