@@ -79,9 +79,23 @@ def test_names_the_brief_lists():
     for name in ('elevation.step_height_m', 'elevation.mode_threshold',
                  'elevation.floor_height_m', 'elevation.start_floor', 'model_path'):
         assert name in classifier
-    # Only the persistence parameters are on both nodes (each node its own state file).
+    # Only the persistence parameters (each node its own state file) and the building are on
+    # both nodes.
     assert set(imu) & set(classifier) == {'persist_state', 'state_dir', 'state_max_age_s',
-                                          'cycle_history'}
+                                          'cycle_history', 'building_file'}
+
+
+def test_both_nodes_read_one_building_file(tmp_path):
+    """A building on one node's section is the pipeline's; two different ones are refused."""
+    one = tmp_path / 'one.yaml'
+    one.write_text('classifier_node:\n  ros__parameters: {building_file: tower.yaml}\n')
+    assert load_pipeline_params(one).building_file == 'tower.yaml'
+    assert load_pipeline_params(one, 'other.yaml').building_file == 'other.yaml'
+    two = tmp_path / 'two.yaml'
+    two.write_text('classifier_node:\n  ros__parameters: {building_file: a.yaml}\n'
+                   'imu_node:\n  ros__parameters: {building_file: b.yaml}\n')
+    with pytest.raises(InputError, match='different building files'):
+        load_pipeline_params(two)
 
 
 def test_every_spec_has_a_description_and_a_range_for_numbers():

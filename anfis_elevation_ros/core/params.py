@@ -122,6 +122,8 @@ class PipelineParams:
         Input checks.
     model_path : str
         ANFIS model file; '' is the packaged default (see ``load_model``).
+    building_file : str
+        Building file of the incident (``core/building.py``); '' for none.
 
     """
 
@@ -129,6 +131,7 @@ class PipelineParams:
     elevation: ElevationParams
     gate: GateParams
     model_path: str = ''
+    building_file: str = ''
 
 
 def _kind_of(value) -> str:
@@ -243,6 +246,9 @@ _PERSISTENCE = (
 )
 _MODEL_PATH = ParamSpec('model_path', '', "ANFIS model JSON file; '' is the packaged "
                         'config/anfis_default.json.')
+_BUILDING_FILE = ParamSpec('building_file', '', 'Building file of the incident (YAML, format '
+                           "anfis_elevation_ros/building: floors, stairs, entrance); '' for "
+                           'none.')
 _IMU_NODE_ONLY = (
     ParamSpec('imu_topic', '/imu/data', 'sensor_msgs/Imu topic to subscribe to.'),
     ParamSpec('imu_qos_depth', 2000, 'Depth of the Imu subscription queue, messages (5 s of a '
@@ -254,10 +260,12 @@ _IMU_NODE_ONLY = (
     ParamSpec('track_rate_hz', 10.0, 'Rate of the foot_odom track, Hz; 0 publishes none.', 0.0,
               100.0),
     ParamSpec('diagnostics_rate_hz', 1.0, 'Rate of the /diagnostics status, Hz.', 0.1, 10.0),
+    _BUILDING_FILE,
 ) + _PERSISTENCE
 _CLASSIFIER_NODE_ONLY = (
     _MODEL_PATH,
     ParamSpec('map_frame_id', 'map', 'Frame of the published elevation points.'),
+    _BUILDING_FILE,
 ) + _PERSISTENCE
 
 
@@ -697,7 +705,7 @@ def _check_node_consistent(node_name: str, flat: dict):
         elevation_params_from_dict(flat)
 
 
-def load_pipeline_params(path=None) -> PipelineParams:
+def load_pipeline_params(path=None, building_file=None) -> PipelineParams:
     """
     Pipeline parameters from a parameter YAML (both nodes' sections), or the defaults.
 
@@ -705,15 +713,29 @@ def load_pipeline_params(path=None) -> PipelineParams:
     ----------
     path : str, Path or None
         ROS 2 parameter YAML as the nodes read; None gives the defaults.
+    building_file : str, Path or None
+        Building file given on the command line; it overrides the YAML's ``building_file``.
+
+    Raises
+    ------
+    InputError : as ``load_params_yaml``, or the two nodes' sections name different building
+        files.
 
     """
     per_node = load_params_yaml(path) if path is not None else {}
     imu = node_params(per_node, IMU_NODE)
     classifier = node_params(per_node, CLASSIFIER_NODE)
+    if building_file is None:
+        files = {imu.get('building_file', ''), classifier.get('building_file', '')} - {''}
+        if len(files) > 1:
+            raise InputError(f'{path}: imu_node and classifier_node name different building '
+                             f'files ({", ".join(sorted(files))}); give both the same')
+        building_file = files.pop() if files else ''
     return PipelineParams(navigator=navigator_params_from_dict(imu),
                           elevation=elevation_params_from_dict(classifier),
                           gate=gate_params_from_dict(imu),
-                          model_path=classifier.get('model_path', ''))
+                          model_path=classifier.get('model_path', ''),
+                          building_file=str(building_file))
 
 
 # -- files shipped with the package -----------------------------------------------------------

@@ -62,6 +62,7 @@ from std_msgs.msg import Int32, Int8
 from .common import cycle_from_msg, cycle_history_qos, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, LATEST_QOS, LiveParameters, ns_to_stamp, spin_node
 from .common import PersistsState
+from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
 from ..core.params import CLASSIFIER_NODE, elevation_params_from_dict, load_model, model_file
@@ -90,6 +91,10 @@ class ClassifierNode(PersistsState, Node):
         super().__init__(CLASSIFIER_NODE, **kwargs)
         values = declare_node_parameters(self, CLASSIFIER_NODE)
         self._model = load_model(values['model_path'])
+        self._building = load_building_file(values['building_file'])
+        if self._building is not None:
+            self.get_logger().info(f'building {self._building.name or ""} loaded from '
+                                   f'{self._building.source}')
         self._source_id = self.resolve_topic_name('gait_cycle')
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())

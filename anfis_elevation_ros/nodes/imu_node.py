@@ -76,6 +76,7 @@ from sensor_msgs.msg import Imu, PointCloud2
 from .common import cycle_history_qos, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
 from .common import ns_to_stamp, PersistsState, PolledSubscription, spin_node
+from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
@@ -113,6 +114,10 @@ class ImuNode(PersistsState, Node):
         self._navigator_params = navigator_params_from_dict(values)
         self._navigator = FootNavigator(self._navigator_params)
         self._gate = InputGate(gate_params_from_dict(values))
+        self._building = load_building_file(values['building_file'])
+        if self._building is not None:
+            self.get_logger().info(f'building {self._building.name or ""} loaded from '
+                                   f'{self._building.source}')
         self._live_parameters = LiveParameters(
             self, IMU_NODE, values, self._check_parameters, self._apply_parameters)
         self._odom_frame_id = values['odom_frame_id']

@@ -15,9 +15,9 @@
 """
 Offline replay: the live pipeline over a bag, as fast as it runs, to CSV files.
 
-``python -m anfis_elevation_ros replay BAG --out DIR [--params YAML]`` feeds every Imu message
-of the bag through the same objects the nodes run (input gate, ``FootNavigator``,
-``ElevationTracker``) and writes
+``python -m anfis_elevation_ros replay BAG --out DIR [--params YAML] [--building FILE]`` feeds
+every Imu message of the bag through the same objects the nodes run (input gate,
+``FootNavigator``, ``ElevationTracker``) and writes
 
 - ``DIR/track.csv``: one row per navigated IMU sample: ``stamp_ns,x_m,y_m,z_m`` (EKF-corrected
   IMU position, ENU, origin where navigation starts), then ``qw,qx,qy,qz`` (attitude q_nb)
@@ -37,6 +37,7 @@ import time
 
 import numpy as np
 
+from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES
 from ..core.height import ElevationTracker
@@ -181,8 +182,12 @@ def run_replay(args: argparse.Namespace) -> int:
     """Replay a bag through the pipeline and write track.csv and cycles.csv."""
     from .bags import read_imu_bag  # rosbags is only needed here, not by `--help`
 
-    pipeline = load_pipeline_params(args.params)
+    pipeline = load_pipeline_params(args.params, args.building)
     model = load_model(pipeline.model_path)
+    building = load_building_file(pipeline.building_file)
+    if building is not None:
+        print(f'replay: building {building.name or building.source} ({len(building.floors)} '
+              f'floors, {len(building.stairs)} stair entries)', file=sys.stderr)
     recording = read_imu_bag(args.bag, topic=args.topic)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -217,6 +222,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument('--out', required=True, help='output directory')
     parser.add_argument('--params', default=None,
                         help='ROS 2 parameter YAML as the nodes read (default: built-in defaults)')
+    parser.add_argument('--building', default=None, metavar='FILE',
+                        help='building file of the incident (floors, stairs, entrance; format '
+                        "in the README); overrides the YAML's building_file")
     parser.add_argument('--topic', default=None,
                         help="Imu topic (default: the bag's only sensor_msgs/Imu topic)")
     parser.set_defaults(handler=run_replay)

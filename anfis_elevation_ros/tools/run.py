@@ -40,10 +40,16 @@ import sys
 
 
 def ros_init_args(args) -> list:
-    """Return the argument list for rclpy.init: the parameter file, then the user's ROS args."""
+    """
+    Return the argument list for rclpy.init: the parameter file, the building, the user's args.
+
+    The user's ROS arguments come last, so their ``-p`` overrides win.
+    """
     argv = ['anfis_elevation_ros']
     if args.params is not None:
         argv += ['--ros-args', '--params-file', str(args.params), '--']
+    if getattr(args, 'building', None) is not None:
+        argv += ['--ros-args', '-p', f'building_file:={Path(args.building).resolve()}', '--']
     return argv + list(getattr(args, 'ros_argv', []))
 
 
@@ -52,6 +58,7 @@ def run_run(args) -> int:
     import rclpy
     from rclpy.executors import ExternalShutdownException
 
+    from ..core.building import load_building
     from ..core.errors import InputError
     from ..core.params import load_params_yaml
     from ..nodes.classifier_node import ClassifierNode
@@ -60,6 +67,8 @@ def run_run(args) -> int:
 
     if args.params is not None:
         load_params_yaml(args.params)          # clear errors before ROS sees the file
+    if args.building is not None:
+        load_building(args.building)           # the same for the building file
     if args.record is not None and args.record.exists():
         raise InputError(f'{args.record} exists; remove it or choose another --record path')
     init_without_signal_handlers(ros_init_args(args))
@@ -104,6 +113,9 @@ def add_parser(subparsers):
     parser.add_argument('--params', type=Path, default=None,
                         help='ROS 2 parameter YAML for both nodes (default: built-in defaults, '
                         'which config/params.yaml lists)')
+    parser.add_argument('--building', type=Path, default=None, metavar='FILE',
+                        help='building file of the incident (floors, stairs, entrance) for both '
+                        'nodes: sets their building_file parameter')
     parser.add_argument('--record', type=Path, default=None, metavar='OUT',
                         help='also record the outputs to this new bag directory')
     parser.add_argument('--storage', choices=('mcap', 'sqlite3'), default='mcap',
