@@ -35,6 +35,8 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     ``stair_mode``, std_msgs/Int8: +1 up, 0 level, -1 down, per classified cycle.
     ``floor``, std_msgs/Int32: the floor index per classified cycle, and ``elevation.start_floor``
     once at start.
+    ``floor_certain``, std_msgs/Bool, with every ``floor``: whether the floor is known (a map
+    shows 'Floor ?' when it is not).
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray at 1 Hz: "classifier_node: elevation"
     (cycles classified, invalid, bridged, unbridged, missed (index gaps), malformed, height,
     floor, mode, resumed or not, failed state writes).
@@ -57,7 +59,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped
 from rclpy.node import Node
 from sensor_msgs.msg import PointCloud2
-from std_msgs.msg import Int32, Int8
+from std_msgs.msg import Bool, Int32, Int8
 
 from .common import cycle_from_msg, cycle_history_qos, declare_node_parameters, DIAGNOSTICS_QOS
 from .common import diagnostic_status, LATEST_QOS, LiveParameters, ns_to_stamp, spin_node
@@ -131,11 +133,12 @@ class ClassifierNode(PersistsState, Node):
         self._elevation_pub = self.create_publisher(PointStamped, 'elevation', LATEST_QOS)
         self._mode_pub = self.create_publisher(Int8, 'stair_mode', LATEST_QOS)
         self._floor_pub = self.create_publisher(Int32, 'floor', LATEST_QOS)
+        self._floor_certain_pub = self.create_publisher(Bool, 'floor_certain', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
         self.create_subscription(PointCloud2, 'gait_cycle', self._on_cycle,
                                  cycle_history_qos(values['cycle_history']))
         self.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
-        self._floor_pub.publish(Int32(data=self._floor))
+        self._publish_floor(self._floor)
         self.get_logger().info(f'{"resumed" if self._resumed else "start"} floor {self._floor}')
 
     def _apply_parameters(self, values, changed):
@@ -191,7 +194,7 @@ class ClassifierNode(PersistsState, Node):
             float(estimate.height_m)
         self._elevation_pub.publish(point)
         self._mode_pub.publish(Int8(data=int(estimate.mode)))
-        self._floor_pub.publish(Int32(data=int(estimate.floor)))
+        self._publish_floor(estimate.floor)
         if estimate.floor != self._floor:
             self.get_logger().info(f'floor {self._floor} -> {estimate.floor} (height '
                                    f'{estimate.height_m:.2f} m)')
@@ -220,7 +223,11 @@ class ClassifierNode(PersistsState, Node):
         if floor != self._floor:
             self.get_logger().info(f'floor {self._floor} -> {floor} (parameters changed)')
             self._floor = floor
-            self._floor_pub.publish(Int32(data=int(floor)))
+            self._publish_floor(floor)
+
+    def _publish_floor(self, floor: int):
+        self._floor_pub.publish(Int32(data=int(floor)))
+        self._floor_certain_pub.publish(Bool(data=True))
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""
