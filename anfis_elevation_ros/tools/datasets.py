@@ -30,6 +30,9 @@ load_xio(path)                             -> ImuRecording
 load_hugadb(path, foot='right', *, gyro_range_dps=2000) -> (ImuRecording, activity (N,) int)
 hugadb_index(data_dir=None)                -> list of HugadbIndexRow (file_index.csv)
 
+gdin_hallway (MicroStrain 3DM-GX5-25, two layouts, per-stride truth) has a module of its own,
+``gdin_hallway.load_gdin_walk``.
+
 Sets, as found in the files (provenance: ``../shared/data/README.md``)
 ---------------------------------------------------------------------
 All four are right-handed as stored (gyro-propagated gravity matches the accelerometer at the
@@ -82,6 +85,7 @@ DATASET_PATTERNS = {
     'mad_stairs': '*.csv',
     'xio_foot': '*.csv',
     'hugadb': 'HuGaDB_*.txt',
+    'gdin_hallway': 'SensorConnectData_*.csv',
 }
 
 PYSHOE_RATE_HZ = 200.0
@@ -151,7 +155,7 @@ def dataset_files(name: str, data_dir=None) -> list:
     Parameters
     ----------
     name : str
-        One of 'pyshoe_vicon', 'mad_stairs', 'xio_foot', 'hugadb'.
+        One of 'pyshoe_vicon', 'mad_stairs', 'xio_foot', 'hugadb', 'gdin_hallway'.
     data_dir : str or Path, optional
         The shared data directory; default :func:`shared_data_dir`.
 
