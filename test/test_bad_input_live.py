@@ -31,7 +31,7 @@ import time
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.state import load_state, NavigationState, state_file
 from anfis_elevation_ros.nodes.classifier_node import ClassifierNode
-from anfis_elevation_ros.nodes.common import cycle_to_msg
+from anfis_elevation_ros.nodes.gait_cycle_msg import cycle_to_msg
 from anfis_elevation_ros.nodes.imu_node import ImuNode
 from anfis_elevation_ros.tools.bags import read_imu_bag
 from anfis_elevation_ros.tools.ros_io import CycleListener, PLAYER_QOS

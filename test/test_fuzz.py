@@ -56,7 +56,7 @@ from anfis_elevation_ros.core.params import elevation_params_from_dict, gate_par
 from anfis_elevation_ros.core.params import load_params_yaml, load_pipeline_params, node_specs
 from anfis_elevation_ros.core.params import PipelineParams, validate_value
 from anfis_elevation_ros.nodes.classifier_node import ClassifierNode
-from anfis_elevation_ros.nodes.common import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
+from anfis_elevation_ros.nodes.gait_cycle_msg import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
 from anfis_elevation_ros.nodes.imu_node import ImuNode
 from anfis_elevation_ros.tools.bags import BagWriter, IMU_MSGTYPE, read_imu_bag, read_messages
 from anfis_elevation_ros.tools.bags import write_imu_bag

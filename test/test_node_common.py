@@ -21,9 +21,10 @@ from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.gait import GaitCycle
 from anfis_elevation_ros.core.params import all_specs
 from anfis_elevation_ros.core.state import ElevationState, load_state
-from anfis_elevation_ros.nodes.common import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
-from anfis_elevation_ros.nodes.common import imu_sample, imu_sample_from_cdr
-from anfis_elevation_ros.nodes.common import parameter_descriptor, StateWriter
+from anfis_elevation_ros.nodes.gait_cycle_msg import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
+from anfis_elevation_ros.nodes.imu_msg import imu_sample, imu_sample_from_cdr
+from anfis_elevation_ros.nodes.node_params import parameter_descriptor
+from anfis_elevation_ros.nodes.state_writer import StateWriter
 import numpy as np
 import pytest
 from rclpy.serialization import serialize_message

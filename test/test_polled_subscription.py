@@ -17,7 +17,9 @@
 import threading
 import time
 
-from anfis_elevation_ros.nodes.common import imu_qos, imu_sample_from_cdr, PolledSubscription
+from anfis_elevation_ros.nodes.imu_msg import imu_sample_from_cdr
+from anfis_elevation_ros.nodes.polled_subscription import PolledSubscription
+from anfis_elevation_ros.nodes.qos import imu_qos
 from anfis_elevation_ros.tools.ros_io import PLAYER_QOS
 import pytest
 import rclpy

@@ -26,7 +26,7 @@ stops the node at start with an error and exit code 1, so it never runs with gar
 Topics
 ------
 Subscribes:
-    ``gait_cycle``, sensor_msgs/PointCloud2 (layout in ``nodes/common.py``), reliable,
+    ``gait_cycle``, sensor_msgs/PointCloud2 (layout in ``nodes/gait_cycle_msg.py``), reliable,
     transient local, depth ``cycle_history``: started late or restarted, the node receives
     the cycles the IMU node still holds and counts those newer than the last one it counted.
 Publishes (reliable, transient local, depth 1: a late subscriber gets the latest at once):
@@ -61,9 +61,13 @@ from rclpy.node import Node
 from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Bool, Int32, Int8
 
-from .common import cycle_from_msg, cycle_history_qos, declare_node_parameters, DIAGNOSTICS_QOS
-from .common import diagnostic_status, LATEST_QOS, LiveParameters, ns_to_stamp, spin_node
-from .common import PersistsState
+from .diagnostics import diagnostic_status
+from .gait_cycle_msg import cycle_from_msg
+from .node_params import declare_node_parameters, LiveParameters
+from .qos import cycle_history_qos, DIAGNOSTICS_QOS, LATEST_QOS
+from .spin import spin_node
+from .stamps import ns_to_stamp
+from .state_writer import PersistsState
 from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.height import ElevationTracker

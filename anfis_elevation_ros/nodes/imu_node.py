@@ -36,7 +36,7 @@ Publishes:
     ``gait_cycle``, sensor_msgs/PointCloud2, reliable, transient local, depth
     ``cycle_history`` (3600): one message per gait cycle (invalid ones too, flagged), one
     point, fields x, y, z (raw INS height), valid, the five features and the cycle index;
-    layout in ``nodes/common.py``. A classifier that starts late gets the cycles it missed.
+    layout in ``nodes/gait_cycle_msg.py``. A classifier that starts late gets the cycles it missed.
     ``foot_odom``, nav_msgs/Odometry, reliable, transient local, depth 1, at
     ``track_rate_hz`` (10 Hz): the latest EKF pose of the IMU, frame ``odom_frame_id``
     (REP 105 ``odom``), child frame the IMU frame; position covariance from the filter
@@ -73,9 +73,15 @@ import numpy as np
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, PointCloud2
 
-from .common import cycle_history_qos, cycle_to_msg, declare_node_parameters, DIAGNOSTICS_QOS
-from .common import diagnostic_status, imu_qos, imu_sample_from_cdr, LATEST_QOS, LiveParameters
-from .common import ns_to_stamp, PersistsState, PolledSubscription, spin_node
+from .diagnostics import diagnostic_status
+from .gait_cycle_msg import cycle_to_msg
+from .imu_msg import imu_sample_from_cdr
+from .node_params import declare_node_parameters, LiveParameters
+from .polled_subscription import PolledSubscription
+from .qos import cycle_history_qos, DIAGNOSTICS_QOS, imu_qos, LATEST_QOS
+from .spin import spin_node
+from .stamps import ns_to_stamp
+from .state_writer import PersistsState
 from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES

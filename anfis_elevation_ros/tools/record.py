@@ -32,7 +32,7 @@ def run_record(args) -> int:
     from rclpy.executors import ExternalShutdownException
 
     from .ros_io import OutputRecorder
-    from ..nodes.common import init_without_signal_handlers, Spinner
+    from ..nodes.spin import init_without_signal_handlers, Spinner
 
     init_without_signal_handlers(['record'] + list(getattr(args, 'ros_argv', [])))
     recorder = None

@@ -34,7 +34,8 @@ from sensor_msgs.msg import Imu
 
 from .bags import BagWriter
 from ..core.errors import InputError
-from ..nodes.common import cycle_from_msg, CYCLE_QOS, LATEST_QOS
+from ..nodes.gait_cycle_msg import cycle_from_msg
+from ..nodes.qos import CYCLE_QOS, LATEST_QOS
 
 OUTPUT_TOPICS = (
     ('/elevation', 'geometry_msgs/msg/PointStamped', LATEST_QOS),
@@ -232,7 +233,7 @@ class CycleListener(Node):
         from sensor_msgs.msg import PointCloud2
         from std_msgs.msg import Int32, Int8
 
-        from ..nodes.common import DIAGNOSTICS_QOS
+        from ..nodes.qos import DIAGNOSTICS_QOS
 
         super().__init__('cycle_listener', **node_kwargs)
         self.elevations, self.modes, self.floors, self.cycles = [], [], [], []

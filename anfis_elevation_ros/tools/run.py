@@ -62,7 +62,7 @@ def run_run(args) -> int:
     from ..core.errors import InputError
     from ..core.params import load_params_yaml
     from ..nodes.classifier_node import ClassifierNode
-    from ..nodes.common import init_without_signal_handlers, Spinner
+    from ..nodes.spin import init_without_signal_handlers, Spinner
     from ..nodes.imu_node import ImuNode
 
     if args.params is not None:

@@ -49,7 +49,8 @@ def main(argv=None):
     from sensor_msgs.msg import PointCloud2
 
     from anfis_elevation_ros.core.gait import GaitCycle, N_FEATURES
-    from anfis_elevation_ros.nodes.common import cycle_history_qos, cycle_to_msg
+    from anfis_elevation_ros.nodes.gait_cycle_msg import cycle_to_msg
+    from anfis_elevation_ros.nodes.qos import cycle_history_qos
 
     rclpy.init()
     node = rclpy.create_node('bench_history_memory')

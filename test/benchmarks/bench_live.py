@@ -110,7 +110,9 @@ import sys
 import threading
 import rclpy
 from sensor_msgs.msg import Imu
-from anfis_elevation_ros.nodes.common import imu_qos, PolledSubscription, Spinner
+from anfis_elevation_ros.nodes.polled_subscription import PolledSubscription
+from anfis_elevation_ros.nodes.qos import imu_qos
+from anfis_elevation_ros.nodes.spin import Spinner
 rclpy.init()
 node = rclpy.create_node('baseline_imu_subscriber')
 batch_period_s = float(sys.argv[1])

@@ -1,0 +1,137 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The gait-cycle message: one GaitCycle as a sensor_msgs/PointCloud2 of one point.
+
+The gait-cycle message (topic ``gait_cycle``) is a ``sensor_msgs/msg/PointCloud2`` holding ONE
+point: a point cloud is stamped, has a frame, and names its fields, so the message documents
+itself and rviz or ``ros2 topic echo`` show it. The point is the foot at the sample that closes
+the cycle, in the odometry frame; its fields, all FLOAT64 (``CYCLE_FIELDS``):
+
+=====  ====================  ==============================================================
+ off   field                 meaning
+=====  ====================  ==============================================================
+   0   ``x``                 EKF position x (east) at the closing stance sample, m
+   8   ``y``                 EKF position y (north), m
+  16   ``z``                 EKF height (raw INS height, not quantised), m
+  24   ``valid``             1.0 for a valid cycle, 0.0 for one with a gap or an overlong swing
+  32   ``mean_height_m``     feature eq. (8), m
+  40   ``std_height_m``      feature eq. (9), m
+  48   ``height_change_m``   feature eq. (10), m
+  56   ``max_abs_height_m``  feature eq. (11), m
+  64   ``max_pitch_rad``     feature eq. (12), rad
+  72   ``cycle_index``       index of the cycle, 1, 2, ... (continues after a resumed restart)
+=====  ====================  ==============================================================
+
+``header.stamp`` is the stamp of the IMU sample that closed the cycle; ``header.frame_id`` the
+odometry frame; height = width = 1, point_step = row_step = 80, little endian, ``is_dense``
+false when a value is not finite.
+"""
+
+from dataclasses import dataclass
+import math
+import struct
+
+import numpy as np
+from sensor_msgs.msg import PointCloud2, PointField
+
+from .stamps import ns_to_stamp, stamp_to_ns
+from ..core.errors import InputError
+from ..core.gait import FEATURE_NAMES
+
+CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + FEATURE_NAMES + ('cycle_index',)
+_CYCLE_STRUCT = struct.Struct('<' + 'd' * len(CYCLE_FIELDS))
+
+
+@dataclass(frozen=True)
+class CycleMessage:
+    """
+    A decoded gait-cycle message.
+
+    Attributes
+    ----------
+    stamp_ns : int
+        Stamp of the sample that closed the cycle, ns.
+    x_m, y_m, z_m : float
+        EKF position at that sample (z: raw INS height), m, odometry frame.
+    valid : bool
+        False for a cycle with a gap or an overlong swing.
+    features : (5,) array
+        In ``FEATURE_NAMES`` order.
+    index : int
+        Index of the cycle (1, 2, ...).
+
+    """
+
+    stamp_ns: int
+    x_m: float
+    y_m: float
+    z_m: float
+    valid: bool
+    features: np.ndarray
+    index: int
+
+
+_CYCLE_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(CYCLE_FIELDS))
+
+
+def cycle_to_msg(cycle, frame_id: str, index: int) -> PointCloud2:
+    """
+    PointCloud2 of one GaitCycle with its index (layout in the module docstring).
+
+    A cycle with a non-finite value is sent as invalid (valid = 0), never classified.
+    """
+    position = [float(v) for v in cycle.pos_n]
+    features = [float(v) for v in cycle.features]
+    finite = all(math.isfinite(v) for v in position + features)
+    values = (*position, 1.0 if cycle.valid and finite else 0.0, *features, float(index))
+    msg = PointCloud2()
+    msg.header.stamp = ns_to_stamp(cycle.stamp_ns)
+    msg.header.frame_id = frame_id
+    msg.height = 1
+    msg.width = 1
+    msg.fields = [PointField(name=name, offset=offset, datatype=datatype, count=count)
+                  for name, offset, datatype, count in _CYCLE_LAYOUT]
+    msg.is_bigendian = False
+    msg.point_step = _CYCLE_STRUCT.size
+    msg.row_step = _CYCLE_STRUCT.size
+    msg.data = _CYCLE_STRUCT.pack(*values)
+    msg.is_dense = finite
+    return msg
+
+
+def cycle_from_msg(msg) -> CycleMessage:
+    """
+    Decode a gait-cycle PointCloud2, checking its layout.
+
+    Raises
+    ------
+    InputError : not one point with exactly ``CYCLE_FIELDS`` as little-endian FLOAT64.
+
+    """
+    layout = tuple((f.name, f.offset, f.datatype, f.count) for f in msg.fields)
+    if layout != _CYCLE_LAYOUT or msg.is_bigendian or msg.width * msg.height != 1 \
+            or msg.point_step != _CYCLE_STRUCT.size or len(msg.data) != _CYCLE_STRUCT.size:
+        raise InputError(f'gait_cycle message does not have the expected layout (one point, '
+                         f'fields {", ".join(CYCLE_FIELDS)} as FLOAT64); got fields '
+                         f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
+                         f'{len(msg.data)} bytes')
+    values = _CYCLE_STRUCT.unpack(bytes(msg.data))
+    index = values[-1]
+    if not (math.isfinite(index) and index == int(index) and 1 <= index < 2 ** 53):
+        raise InputError(f'gait_cycle message has cycle_index {index!r}, not a count')
+    return CycleMessage(stamp_ns=stamp_to_ns(msg.header.stamp), x_m=values[0], y_m=values[1],
+                        z_m=values[2], valid=values[3] == 1.0,
+                        features=np.array(values[4:-1], dtype=float), index=int(index))
