@@ -15,9 +15,10 @@
 """
 Walk plans of the tools and benchmarks.
 
-The seed's building walk, random training walks, the bundled sample walk.
+The seed's building walk, a tower walk, random training walks, the bundled sample walk.
 
-Public API: ``building_walk``, ``random_walk``, ``sample_walk``, ``nominal_duration_s``.
+Public API: ``building_walk``, ``tower_walk``, ``tower_floor_elevations_m``, ``random_walk``,
+``sample_walk``, ``nominal_duration_s``.
 """
 
 import numpy as np
@@ -98,6 +99,72 @@ def building_walk(*, step_height_m: float = 0.15, steps_per_flight: int = 18,
             middle += (Segment.level(half), Segment.turn(180.0), Segment.level(half),
                        Segment.turn(180.0))
     return head + middle + tail
+
+
+def tower_floor_elevations_m(storey_steps, step_height_m: float) -> np.ndarray:
+    """
+    Return the elevation of each floor of a tower (floor 0 at 0 m), m.
+
+    E_0 = 0, E_f = K * sum_{j < f} storey_steps[j]: a storey of s steps of riser K is s K high.
+    """
+    return step_height_m * np.concatenate([[0], np.cumsum(storey_steps)]).astype(float)
+
+
+def tower_walk(route, *, storey_steps=(26, 18, 18, 18, 18), step_height_m: float = 0.17,
+               steps_per_stride: int = 2, level_strides: int = 12) -> tuple:
+    """
+    Plan a walk through a tower with one stairwell: floor to floor by ``route``.
+
+    Floor f to f + 1 is two straight flights of ``storey_steps[f] / 2`` steps (the first one
+    takes the odd step) with a 180 deg landing turn between them; on every floor of the route
+    the walker leaves the stairwell, walks ``level_strides`` strides along a corridor, turns
+    round and walks back. A lobby taller than the other storeys has more steps
+    (``storey_steps[0]``). The floors' elevations are :func:`tower_floor_elevations_m`.
+
+    Parameters
+    ----------
+    route : sequence of int
+        Floors visited in order, starting with 0 (e.g. (0, 4, 1, 3, 0)); each in
+        [0, len(storey_steps)].
+    storey_steps : sequence of int
+        Steps from floor f to floor f + 1, each in [4, 60].
+    step_height_m : float
+        Riser height K, m.
+    steps_per_stride : int
+        Steps climbed per stride, 1..4.
+    level_strides : int
+        Strides along the corridor, each way, on each floor of the route.
+
+    Returns
+    -------
+    tuple of Segment, for simulate_walk.
+
+    """
+    route = [int(f) for f in route]
+    top = len(storey_steps)
+    if not route or route[0] != 0 or any(not 0 <= f <= top for f in route):
+        raise InputError(f'tower_walk route={route} must start at floor 0 and stay in [0, {top}]')
+    for steps in storey_steps:
+        check_range('tower_walk storey_steps[]', steps, 4, 60)
+    check_range('tower_walk level_strides', level_strides, 1, 1000)
+    flight = {'steps_per_stride': steps_per_stride, 'step_height_m': step_height_m}
+    corridor = (Segment.level(level_strides), Segment.turn(180.0), Segment.level(level_strides),
+                Segment.turn(180.0))
+    segments = list(corridor)
+    floor = 0
+    for target in route[1:]:
+        while floor != target:
+            direction = 1 if target > floor else -1
+            steps = storey_steps[floor if direction > 0 else floor - 1]
+            segments += [Segment.level(1),
+                         Segment.stairs(steps - steps // 2, direction, **flight),
+                         Segment.level(2, turn_deg=180.0, stride_length_m=0.7),
+                         Segment.stairs(steps // 2, direction, **flight)]
+            floor += direction
+            segments += [Segment.turn(180.0)] if floor == target else [
+                Segment.level(2, turn_deg=180.0, stride_length_m=0.7)]
+        segments += corridor
+    return tuple(segments)
 
 
 def random_walk(duration_s: float, rng: np.random.Generator, *,
