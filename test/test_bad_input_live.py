@@ -45,8 +45,8 @@ from sensor_msgs.msg import Imu
 
 CLEAN_SECONDS = 14.0
 BATCH = 50
-IMU_INPUT = 'imu_node: IMU input'
-NAVIGATOR = 'imu_node: foot navigator'
+IMU_INPUT = '/imu_node: IMU input'
+NAVIGATOR = '/imu_node: foot navigator'
 
 
 @pytest.fixture(scope='module')

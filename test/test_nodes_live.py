@@ -34,7 +34,7 @@ from live_support import listening, wait_for, write_linear_model, write_params
 import pytest
 
 PLAY_MAX_RATE_HZ = 1000.0
-IMU_INPUT = 'imu_node: IMU input'
+IMU_INPUT = '/imu_node: IMU input'
 
 
 @pytest.fixture(scope='module')

@@ -321,3 +321,29 @@ def test_load_model_errors(tmp_path):
     (tmp_path / 'bad.json').write_text('{')
     with pytest.raises(InputError, match='not valid JSON'):
         load_model(str(tmp_path / 'bad.json'))
+
+
+def test_wildcard_namespace_key_applies_in_the_root_and_any_namespace(tmp_path):
+    """The key '/**/imu_node' matches /imu_node and /ff1/imu_node: the packaged file keys so."""
+    from anfis_elevation_ros.core.params import load_params_yaml, node_params
+
+    path = tmp_path / 'p.yaml'
+    path.write_text('/**/imu_node:\n  ros__parameters:\n    imu_qos_depth: 100\n')
+    assert node_params(load_params_yaml(path), 'imu_node') == {'imu_qos_depth': 100}
+    assert node_params(load_params_yaml(path), 'classifier_node') == {}
+    assert CONFIG_YAML.read_text().count('\n/**/') == 2
+
+
+def test_run_namespace_is_checked_and_remaps_both_nodes():
+    """--namespace /ff1 becomes rcl's __ns remap; a malformed namespace is refused."""
+    import argparse
+
+    from anfis_elevation_ros.tools.run import check_namespace, ros_init_args
+
+    args = argparse.Namespace(params=None, building=None, namespace='/ff1', ros_argv=[])
+    assert ros_init_args(args) == ['anfis_elevation_ros', '--ros-args', '-r', '__ns:=/ff1',
+                                   '--']
+    check_namespace('/fire/ff_2')
+    for bad in ('ff1', '/1ff', '/ff 1', '/ff1/', ''):
+        with pytest.raises(InputError, match='not a ROS namespace'):
+            check_namespace(bad)

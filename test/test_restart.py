@@ -51,7 +51,7 @@ import pytest
 STEP_M = 0.15
 RATE_HZ = 100.0
 PLAY_RATE = 4.0
-IMU_INPUT = 'imu_node: IMU input'
+IMU_INPUT = '/imu_node: IMU input'
 
 
 @pytest.fixture(scope='module')

@@ -250,7 +250,8 @@ _BUILDING_FILE = ParamSpec('building_file', '', 'Building file of the incident (
                            "anfis_elevation_ros/building: floors, stairs, entrance); '' for "
                            'none.')
 _IMU_NODE_ONLY = (
-    ParamSpec('imu_topic', '/imu/data', 'sensor_msgs/Imu topic to subscribe to.'),
+    ParamSpec('imu_topic', 'imu/data', 'sensor_msgs/Imu topic to subscribe to (relative: in the '
+              "node's namespace, /imu/data without one, /ff1/imu/data under /ff1)."),
     ParamSpec('imu_qos_depth', 2000, 'Depth of the Imu subscription queue, messages (5 s of a '
               '400 Hz sensor: a busy CPU or slow disk must not drop samples).', 1, 10000),
     ParamSpec('imu_batch_period_s', 0.008, 'Imu messages are taken in batches this often, s '
@@ -591,8 +592,10 @@ def _key_matches(node_key: str, node_name: str) -> bool:
     # A run of 3+ stars matches what '**' does; collapsed, as '.*.*...' backtracks
     # exponentially on a key that does not match.
     node_key = re.sub(r'\*{3,}', '**', node_key)
-    pattern = ''.join('.*' if part == '**' else '[^/]*' if part == '*' else re.escape(part)
-                      for part in re.split(r'(\*\*|\*)', node_key))
+    # '**/' is any namespace, the root included (rcl: '/**/imu_node' matches '/imu_node').
+    pattern = ''.join('(?:.*/)?' if part == '**/' else '.*' if part == '**' else
+                      '[^/]*' if part == '*' else re.escape(part)
+                      for part in re.split(r'(\*\*/|\*\*|\*)', node_key))
     return re.fullmatch(pattern, node_name) is not None or node_key == node_name
 
 
@@ -839,14 +842,15 @@ def params_yaml_text() -> str:
     """
     Render config/params.yaml: every parameter of both nodes, its default and a comment.
 
-    Nested names are written as nested maps, as ROS 2 parameter files usually are.
+    Nested names are written as nested maps, as ROS 2 parameter files usually are. Each node
+    is keyed ``/**/<node>``, so that the file applies in any namespace (``run --namespace``).
     """
     lines = ['# Parameters of the anfis_elevation_ros nodes, with their defaults.',
              '# Generated from anfis_elevation_ros/core/params.py (params_yaml_text); the',
              '# descriptions and ranges there are the ones the nodes declare and enforce.',
              '# Doubles need a decimal point (400.0): ROS 2 parameters are typed.']
     for node in NODE_NAMES:
-        lines += ['', f'{node}:', '  ros__parameters:']
+        lines += ['', f'/**/{node}:', '  ros__parameters:']
         opened = []
         for spec in _NODE_SPECS[node].values():
             parts = spec.name.split('.')

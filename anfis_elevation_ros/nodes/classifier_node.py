@@ -37,7 +37,7 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     once at start.
     ``floor_certain``, std_msgs/Bool, with every ``floor``: whether the floor is known (a map
     shows 'Floor ?' when it is not).
-    ``/diagnostics``, diagnostic_msgs/DiagnosticArray at 1 Hz: "classifier_node: elevation"
+    ``/diagnostics``, diagnostic_msgs/DiagnosticArray at 1 Hz: "/classifier_node: elevation"
     (cycles classified, invalid, bridged, unbridged, missed (index gaps), malformed, height,
     floor, mode, resumed or not, failed state writes).
 
@@ -257,7 +257,8 @@ class ClassifierNode(PersistsState, Node):
                   'state_write_errors': self._state_write_errors(),
                   'internal_errors': self._internal_errors}
         msg = DiagnosticArray(status=[diagnostic_status(
-            'classifier_node: elevation', level, message, self._map_frame_id, values)])
+            f'{self.get_fully_qualified_name()}: elevation', level,
+            message, self._map_frame_id, values)])
         msg.header.stamp = ns_to_stamp(now_ns)
         return msg
 

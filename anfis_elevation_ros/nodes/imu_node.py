@@ -24,7 +24,8 @@ counted as ``wrong_units``: bad input never stops the node.
 Topics
 ------
 Subscribes:
-    ``imu_topic`` (parameter, default ``/imu/data``), sensor_msgs/Imu, sensor-data QoS with
+    ``imu_topic`` (parameter, default ``imu/data``: ``/ff1/imu/data`` under ``/ff1``),
+    sensor_msgs/Imu, sensor-data QoS with
     depth ``imu_qos_depth`` (2000: 5 s at 400 Hz; with 200 a loaded two-core machine dropped
     messages when the imu node fell behind for a moment). A thread of the node takes the
     messages in batches every ``imu_batch_period_s`` (8 ms; ``PolledSubscription``, its helper
@@ -42,10 +43,11 @@ Publishes:
     (REP 105 ``odom``), child frame the IMU frame; position covariance from the filter
     (isotropic, sigma^2 / 3 per axis), the rest unknown (0); twist not estimated (0).
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray, at ``diagnostics_rate_hz`` (1 Hz):
-    "imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps, samples lost
+    "/imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps, samples lost
     in transit estimated from the stamps: WARN above 1 % per period) and
-    "imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma,
-    resumed or not, state file and failed writes).
+    "/imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma,
+    resumed or not, state file and failed writes). The names start with the node's full
+    name: "/ff1/imu_node: IMU input" under the namespace /ff1.
 
 Parameters: every navigator and input-gate parameter of ``core/params.py`` (read once at start;
 the ``gate.*`` ones may change live) and the node-level ones listed there.
@@ -136,6 +138,7 @@ class ImuNode(PersistsState, Node):
         self._period_start = (0, 0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
         self._period_start_ns = self.get_clock().now().nanoseconds
         self._imu_topic = self.resolve_topic_name(values['imu_topic'])
+        self._full_name = self.get_fully_qualified_name()
         self._persist = values['persist_state']
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
         self._start_state_writer(self._state_path, self._persist)
@@ -387,7 +390,7 @@ class ImuNode(PersistsState, Node):
         values['malformed'] = self._malformed
         values['units_latched'] = gate.units_latched
         values['internal_errors'] = self._internal_errors
-        statuses = [diagnostic_status('imu_node: IMU input', level, message, hardware_id,
+        statuses = [diagnostic_status(f'{self._full_name}: IMU input', level, message, hardware_id,
                                       values)]
 
         if self._internal_errors:
@@ -408,7 +411,7 @@ class ImuNode(PersistsState, Node):
             'resumed': self._resumed, 'outage_cycles': self._outage_cycles,
             'state_file': str(self._state_path) if self._persist else '',
             'state_write_errors': self._state_write_errors()}
-        statuses.append(diagnostic_status('imu_node: foot navigator', level, message,
+        statuses.append(diagnostic_status(f'{self._full_name}: foot navigator', level, message,
                                           hardware_id, nav_values))
         msg = DiagnosticArray(status=statuses)
         msg.header.stamp = ns_to_stamp(now_ns)

@@ -20,7 +20,8 @@ recorded pace (``--rate 1``), scaled (``--rate 2`` is twice as fast), or with ``
 fast as a Python subscriber can follow: at most ``--max-rate-hz`` messages per second (the
 IMU node handles about 2000 Imu messages/s). The publisher stays up until every message is
 out, plus ``--linger-s``. ``--log-publish CSV`` writes ``stamp_ns,publish_time_ns`` per message
-(wall clock, for latency measurements).
+(wall clock, for latency measurements). ``--topic`` is the topic published on (``/ff1/imu/data``
+for a responder run with ``--namespace /ff1``); ``--bag-topic`` the one read from the bag.
 
 Example: ``python -m anfis_elevation_ros play anfis_elevation_ros/data/sample_walk/imu``
 """
@@ -43,8 +44,8 @@ def run_play(args) -> int:
     from .bags import read_imu_bag
     from .ros_io import ImuPlayer
 
-    topic = args.topic or '/imu/data'
-    recording = read_imu_bag(args.bag, topic=args.topic)
+    topic = args.topic
+    recording = read_imu_bag(args.bag, topic=args.bag_topic)
     rclpy.init(args=['play'] + list(getattr(args, 'ros_argv', [])))
     player = None
     try:
@@ -93,9 +94,11 @@ def add_parser(subparsers):
     parser.add_argument('bag', type=Path, help='bag directory or .db3/.mcap file')
     parser.add_argument('--rate', type=float, default=1.0,
                         help='speed factor; 0 = as fast as --max-rate-hz allows')
-    parser.add_argument('--topic', default=None,
-                        help="Imu topic to read and publish on (default: the bag's only Imu "
-                        'topic, published on /imu/data)')
+    parser.add_argument('--topic', default='/imu/data',
+                        help='Imu topic to publish on (/ff1/imu/data for the responder '
+                        'run --namespace /ff1)')
+    parser.add_argument('--bag-topic', default=None,
+                        help="Imu topic to read from the bag (default: the bag's only one)")
     parser.add_argument('--max-rate-hz', type=float, default=2000.0,
                         help='never publish more messages per second than this')
     parser.add_argument('--wait-s', type=float, default=10.0,

@@ -241,10 +241,11 @@ class CycleListener(Node):
         self._on_elevation = on_elevation
         self.create_subscription(DiagnosticArray, '/diagnostics', self._diagnostics,
                                  DIAGNOSTICS_QOS)
-        self.create_subscription(PointStamped, '/elevation', self._elevation, LATEST_QOS)
-        self.create_subscription(Int8, '/stair_mode', self._mode, LATEST_QOS)
-        self.create_subscription(Int32, '/floor', self._floor, LATEST_QOS)
-        self.create_subscription(PointCloud2, '/gait_cycle', self._cycle, CYCLE_QOS)
+        # Relative: a listener made with namespace='/ff1' hears the responder run there.
+        self.create_subscription(PointStamped, 'elevation', self._elevation, LATEST_QOS)
+        self.create_subscription(Int8, 'stair_mode', self._mode, LATEST_QOS)
+        self.create_subscription(Int32, 'floor', self._floor, LATEST_QOS)
+        self.create_subscription(PointCloud2, 'gait_cycle', self._cycle, CYCLE_QOS)
 
     def _elevation(self, msg):
         now = time.time_ns()

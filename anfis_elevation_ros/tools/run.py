@@ -25,6 +25,11 @@ The executor is rclpy's EventsExecutor (``--executor events``, the default): at 
 costs about a third of the CPU per message of the SingleThreadedExecutor (``--executor single``).
 The nodes stop cleanly on Ctrl-C (SIGINT) and on SIGTERM.
 
+``--namespace /ff1`` puts both nodes and all their topics, the Imu input included
+(``/ff1/imu/data``), under one namespace, one per responder (the same as the ROS argument
+``-r __ns:=/ff1``); the packaged parameter file keys its nodes ``/**/imu_node``, so it applies
+in any namespace.
+
 ``--params YAML`` is checked first (unknown names, types, ranges, with a clear message) and
 then passed to rclpy as ``--params-file``; ROS arguments after ``--ros-args`` (remapping,
 ``-p name:=value``, log levels) reach rclpy unchanged. ``--record OUT`` also records the
@@ -36,7 +41,10 @@ Example: ``python -m anfis_elevation_ros run --params config/params.yaml --recor
 import argparse
 import os
 from pathlib import Path
+import re
 import sys
+
+NAMESPACE = re.compile(r'(/[A-Za-z][A-Za-z0-9_]*)+')
 
 
 def ros_init_args(args) -> list:
@@ -46,11 +54,22 @@ def ros_init_args(args) -> list:
     The user's ROS arguments come last, so their ``-p`` overrides win.
     """
     argv = ['anfis_elevation_ros']
+    if getattr(args, 'namespace', None) is not None:
+        argv += ['--ros-args', '-r', f'__ns:={args.namespace}', '--']
     if args.params is not None:
         argv += ['--ros-args', '--params-file', str(args.params), '--']
     if getattr(args, 'building', None) is not None:
         argv += ['--ros-args', '-p', f'building_file:={Path(args.building).resolve()}', '--']
     return argv + list(getattr(args, 'ros_argv', []))
+
+
+def check_namespace(namespace):
+    """Raise InputError unless ``namespace`` is None or a ROS namespace such as ``/ff1``."""
+    from ..core.errors import InputError
+
+    if namespace is not None and not NAMESPACE.fullmatch(namespace):
+        raise InputError(f'namespace {namespace!r} is not a ROS namespace: /name[/name...], '
+                         'each name a letter then letters, digits or _ (e.g. /ff1)')
 
 
 def run_run(args) -> int:
@@ -65,10 +84,14 @@ def run_run(args) -> int:
     from ..nodes.spin import init_without_signal_handlers, Spinner
     from ..nodes.imu_node import ImuNode
 
+    check_namespace(args.namespace)
     if args.params is not None:
         load_params_yaml(args.params)          # clear errors before ROS sees the file
     if args.building is not None:
         load_building(args.building)           # the same for the building file
+    if args.record is not None and args.namespace is not None:
+        raise InputError("--record records the root namespace's topics; it cannot be used "
+                         'with --namespace')
     if args.record is not None and args.record.exists():
         raise InputError(f'{args.record} exists; remove it or choose another --record path')
     init_without_signal_handlers(ros_init_args(args))
@@ -84,7 +107,8 @@ def run_run(args) -> int:
             nodes.append(recorder)
         for node in nodes:
             executor.add_node(node)
-        print(f'run: imu_node and classifier_node running (pid {os.getpid()}); Ctrl-C to stop',
+        names = ' and '.join(node.get_fully_qualified_name() for node in nodes[:2])
+        print(f'run: {names} running (pid {os.getpid()}); Ctrl-C to stop',
               file=sys.stderr, flush=True)
         executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -116,6 +140,9 @@ def add_parser(subparsers):
     parser.add_argument('--building', type=Path, default=None, metavar='FILE',
                         help='building file of the incident (floors, stairs, entrance) for both '
                         'nodes: sets their building_file parameter')
+    parser.add_argument('--namespace', default=None, metavar='/NS',
+                        help='ROS namespace of both nodes and all their topics, one per '
+                        'responder (e.g. /ff1: Imu input on /ff1/imu/data)')
     parser.add_argument('--record', type=Path, default=None, metavar='OUT',
                         help='also record the outputs to this new bag directory')
     parser.add_argument('--storage', choices=('mcap', 'sqlite3'), default='mcap',

@@ -65,7 +65,7 @@ from live_support import write_linear_model, write_params  # noqa: E402
 
 LATENCY_P99_TARGET_MS = 20.0
 CPU_TARGET_PCT = 10.0
-IMU_INPUT = 'imu_node: IMU input'
+IMU_INPUT = '/imu_node: IMU input'
 
 
 def cpu_seconds(pid: int) -> float:
