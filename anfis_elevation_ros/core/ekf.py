@@ -223,6 +223,46 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
             np.sum(innovation * mat_vec(S_inv, innovation)))
 
 
+def position_correction(P: np.ndarray, innovation_xy: np.ndarray, sigma_m: float):
+    """
+    Horizontal position measurement (stair entry), seed 003 eq. (2) and (19)-(21).
+
+    The database says where the foot is: z = P_ins,xy - P_database (eq. 2), so with
+    true = estimate + error the innovation is y = P_database - P_ins,xy, H = [I2 0], R = s^2 I2:
+
+        S = H P H^T + R,  K = P H^T S^-1,  dx = K y,
+        P+ = (I - K H) P (I - K H)^T + K R K^T         (Joseph form)
+
+    Through the covariances of position with heading and gyro bias that the ZUPT filter has
+    built up, one position fix corrects the heading and the z-gyro bias too.
+
+    Parameters
+    ----------
+    P : (15, 15) array
+        Covariance.
+    innovation_xy : (2,) array
+        P_database - P_ins,xy, m.
+    sigma_m : float
+        Measurement standard deviation, m.
+
+    Returns
+    -------
+    dx : (15,) estimated error state; P : (15, 15) updated covariance;
+    nis : normalised innovation squared y^T S^-1 y (chi-square, 2 dof, if the model holds).
+
+    """
+    H = np.zeros((2, N_STATES))
+    H[:, POS.start:POS.start + 2] = np.eye(2)
+    R = sigma_m ** 2 * np.eye(2)
+    S = H @ P @ H.T + R
+    S_inv = np.linalg.inv(S)
+    K = P @ H.T @ S_inv
+    innovation = np.asarray(innovation_xy, dtype=float)
+    A = np.eye(N_STATES) - K @ H
+    P = A @ P @ A.T + K @ R @ K.T
+    return K @ innovation, 0.5 * (P + P.T), float(innovation @ S_inv @ innovation)
+
+
 @jit
 def _inverse_3x3(S: np.ndarray) -> np.ndarray:
     """Inverse of a 3 x 3 matrix by cofactors."""

@@ -49,9 +49,10 @@ from . import ekf
 from .ekf import EkfParams
 from .errors import InputError
 from .frames import dcm_to_quat, dcm_to_rpy, GRAVITY_MPS2, level_attitude_from_gravity, mat_mul
-from .frames import mat_vec, quat_to_dcm, rpy_to_dcm
+from .frames import mat_vec, quat_multiply, quat_to_dcm, rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
 from .jit import jit
+from .map_frame import MapAlignment, rotate_error_covariance
 from .strapdown import strapdown_step
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .zupt import adaptive_threshold, GaitIntensity, intensity_update, shoe_update, ShoeDetector
@@ -245,6 +246,10 @@ class FootNavigator:
         Position to start at, m (resuming a saved state); default the origin.
     start_heading_rad : float
         IMU yaw to start with, rad (resuming a saved state).
+    map_alignment : MapAlignment or None
+        Put the track in a building's map frame (``core/map_frame.py``): positions and
+        attitudes returned are map-frame ones; after the alignment strides the filter itself
+        is rotated into the map frame.
 
     Examples
     --------
@@ -257,8 +262,9 @@ class FootNavigator:
     """
 
     def __init__(self, params: NavigatorParams = None, start_pos_n=None,
-                 start_heading_rad: float = 0.0):
+                 start_heading_rad: float = 0.0, map_alignment: MapAlignment = None):
         self.params = params or NavigatorParams()
+        self._map = map_alignment
         self._status = NavigatorStatus()
         # Where navigation starts: the origin, or a resumed position and heading.
         self._start_pos_n = np.zeros(3) if start_pos_n is None else np.array(start_pos_n, float)
@@ -315,6 +321,8 @@ class FootNavigator:
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
         self._gait = GaitSegmenter(p.gait, self._status.rate_hz, MountingEstimator(p.gait, C_fb))
         self._gait.update(stamp_ns, True, self._nominal[POS_N].copy(), self._C_nb.copy())
+        if self._map is not None:
+            self._map.start(self._nominal[POS_N])
         self._status.initialised = True
 
     def _step_uninitialised(self, stamp_ns, acc_b, gyr_b):
@@ -398,8 +406,8 @@ class FootNavigator:
             self._step_uninitialised(stamp_ns, acc_b, gyr_b)
             if not status.initialised:
                 return None
-            return TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
-                              self._nominal[Q_NB].copy(), True), None
+            return self._map_point(TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
+                                              self._nominal[Q_NB].copy(), True)), None
         flags = navigation_step(stamp_ns, acc_b, gyr_b, *self._kernel_args)
         stance = flags & 1 == 1
         pos_n = self._nominal[POS_N].copy()
@@ -409,7 +417,66 @@ class FootNavigator:
             status.cycles += 1
             status.invalid_cycles += not cycle.valid
             status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
-        return TrackPoint(stamp_ns, pos_n, self._nominal[Q_NB].copy(), stance), cycle
+            if self._map is not None and not self._map.fixed:
+                cycle = self._align_map(cycle)
+        # The nominal state, not pos_n: the filter may have been rotated into the map frame.
+        return self._map_point(TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
+                                          self._nominal[Q_NB].copy(), stance)), cycle
+
+    # -- building aids -------------------------------------------------------------------------
+
+    def _map_point(self, point: TrackPoint) -> TrackPoint:
+        """Return the sample in the map frame while the filter is not in it yet."""
+        if self._map is None or self._map.fixed:
+            return point
+        return TrackPoint(point.stamp_ns, self._map.to_map(point.pos_n),
+                          quat_multiply(self._map_quat(), point.quat_nb), point.stance)
+
+    def _map_quat(self) -> np.ndarray:
+        half = 0.5 * self._map.psi_rad
+        return np.array([math.cos(half), 0.0, 0.0, math.sin(half)])
+
+    def _align_map(self, cycle: GaitCycle) -> GaitCycle:
+        """Add a stride to the map alignment; rotate the filter into the map frame once fixed."""
+        if cycle.valid and self._map.add_stride(cycle.pos_n):
+            # In place: the compiled step holds these arrays.
+            nominal, R = self._nominal, self._map.rotation()
+            nominal[POS_N] = self._map.to_map(nominal[POS_N])
+            nominal[VEL_N] = R @ nominal[VEL_N]
+            nominal[Q_NB] = quat_multiply(self._map_quat(), nominal[Q_NB])
+            self._P[:, :] = rotate_error_covariance(self._P, self._map.psi_rad)
+            self._C_nb[:, :] = quat_to_dcm(nominal[Q_NB])
+            return replace(cycle, pos_n=nominal[POS_N].copy())
+        return replace(cycle, pos_n=self._map.to_map(cycle.pos_n))
+
+    def correct_position(self, innovation_xy, sigma_m: float) -> float:
+        """
+        Apply a horizontal position measurement now (a stair entry, ``ekf.position_correction``).
+
+        Parameters
+        ----------
+        innovation_xy : (2,) array
+            P_database - P_xy, map frame, m.
+        sigma_m : float
+            Its standard deviation, m.
+
+        Returns
+        -------
+        The normalised innovation squared.
+
+        """
+        innovation = np.asarray(innovation_xy, dtype=float)
+        if self._map is not None and not self._map.fixed:
+            innovation = self._map.rotation()[:2, :2].T @ innovation
+        dx, P, nis = ekf.position_correction(self._P, innovation, sigma_m)
+        nominal = self._nominal
+        self._P[:, :] = P
+        (nominal[Q_NB], nominal[VEL_N], nominal[POS_N], nominal[ACC_BIAS_B],
+         nominal[GYR_BIAS_B]) = ekf.apply_correction(
+            nominal[Q_NB].copy(), nominal[VEL_N].copy(), nominal[POS_N].copy(),
+            nominal[ACC_BIAS_B].copy(), nominal[GYR_BIAS_B].copy(), dx)
+        self._C_nb[:, :] = quat_to_dcm(nominal[Q_NB])
+        return nis
 
     @property
     def initialised(self) -> bool:
@@ -446,7 +513,12 @@ class FootNavigator:
     @property
     def heading_rad(self) -> float:
         """Return the yaw of the IMU (ZYX Euler), rad; 0 before start-up."""
-        return float(dcm_to_rpy(self._C_nb)[2]) if self._status.initialised else 0.0
+        if not self._status.initialised:
+            return 0.0
+        yaw = float(dcm_to_rpy(self._C_nb)[2])
+        if self._map is not None and not self._map.fixed:
+            yaw = math.remainder(yaw + self._map.psi_rad, 2.0 * math.pi)
+        return yaw
 
     def run(self, stamp_ns: np.ndarray, acc_b: np.ndarray, gyr_b: np.ndarray):
         """Batch form: a loop of ``step`` over arrays; returns (list of TrackPoint, cycles)."""

@@ -57,6 +57,7 @@ from .errors import InputError
 from .height import ElevationParams
 from .input_gate import GateParams
 from .navigator import NavigatorParams
+from .stair_database import BuildingAidParams
 
 PACKAGE = 'anfis_elevation_ros'
 IMU_NODE = 'imu_node'
@@ -65,6 +66,8 @@ NODE_NAMES = (IMU_NODE, CLASSIFIER_NODE)
 DEFAULT_MODEL_FILE = 'anfis_default.json'
 PARAMS_FILE = 'params.yaml'
 ELEVATION_PREFIX = 'elevation.'
+BUILDING_AID_PREFIX = 'building_aid.'
+CLASSIFIER_AIDS = ('building_aid.stair_fix_ratio',)   # the rest are the IMU node's
 GATE_PREFIX = 'gate.'
 SHARED_GATE_FIELDS = {'max_gap_s': 'max_gap_s'}   # GateParams field -> parameter it mirrors
 MAX_YAML_BYTES = 1_000_000
@@ -124,6 +127,8 @@ class PipelineParams:
         ANFIS model file; '' is the packaged default (see ``load_model``).
     building_file : str
         Building file of the incident (``core/building.py``); '' for none.
+    building_aid : BuildingAidParams
+        Map frame and stair-position correction.
 
     """
 
@@ -132,6 +137,7 @@ class PipelineParams:
     gate: GateParams
     model_path: str = ''
     building_file: str = ''
+    building_aid: BuildingAidParams = BuildingAidParams()
 
 
 def _kind_of(value) -> str:
@@ -232,6 +238,19 @@ _DOCS = {
                               -100, 1000, _LIVE),
     'elevation.start_height_m': ('Height of the start point above its floor reference, m.',
                                  -1000.0, 1000.0, _READ_ONLY),
+    # BuildingAidParams
+    'building_aid.align_strides': ("With a building's start: strides whose direction is taken "
+                                   'as start.heading_deg (the map frame is fixed after them).',
+                                   1, 50, _READ_ONLY),
+    'building_aid.stair_fix_ratio': ('Stair-entry association threshold th_st = ratio x '
+                                     'distance walked since the last correction (seed 003 eq. '
+                                     '18).', 0.0, 1.0, _READ_ONLY),
+    'building_aid.stair_fix_sigma_m': ('Standard deviation of a stair-entry position fix, m.',
+                                       0.01, 10.0, _READ_ONLY),
+    'building_aid.stair_fix_delay_s': ('A stair-entry correction is applied at the first stance '
+                                       'sample this much sensor time after its gait cycle, s '
+                                       '(above the classifier latency).', 0.05, 10.0,
+                                       _READ_ONLY),
 }
 
 _PERSISTENCE = (
@@ -299,9 +318,12 @@ def _dataclass_specs(instance, prefix: str, skip=()):
 _NAVIGATOR_SPECS = tuple(_dataclass_specs(NavigatorParams(), ''))
 _GATE_SPECS = tuple(_dataclass_specs(GateParams(), GATE_PREFIX, skip=SHARED_GATE_FIELDS))
 _ELEVATION_SPECS = tuple(_dataclass_specs(ElevationParams(), ELEVATION_PREFIX))
+_AID_SPECS = tuple(_dataclass_specs(BuildingAidParams(), BUILDING_AID_PREFIX))
 _NODE_SPECS = {
-    IMU_NODE: {s.name: s for s in _NAVIGATOR_SPECS + _GATE_SPECS + _IMU_NODE_ONLY},
-    CLASSIFIER_NODE: {s.name: s for s in _ELEVATION_SPECS + _CLASSIFIER_NODE_ONLY},
+    IMU_NODE: {s.name: s for s in _NAVIGATOR_SPECS + _GATE_SPECS + _IMU_NODE_ONLY
+               + tuple(a for a in _AID_SPECS if a.name not in CLASSIFIER_AIDS)},
+    CLASSIFIER_NODE: {s.name: s for s in _ELEVATION_SPECS + _CLASSIFIER_NODE_ONLY
+                      + tuple(a for a in _AID_SPECS if a.name in CLASSIFIER_AIDS)},
 }
 _ALL_SPECS = {**_NODE_SPECS[IMU_NODE], **_NODE_SPECS[CLASSIFIER_NODE]}
 if set(_DOCS) - set(_ALL_SPECS):
@@ -496,6 +518,20 @@ def elevation_params_from_dict(flat: dict) -> ElevationParams:
     specs = {s.name: s for s in _ELEVATION_SPECS}
     values = _validated(flat, specs)
     return _build('elevation', lambda: _fill(ElevationParams(), values, ELEVATION_PREFIX))
+
+
+def building_aid_params_from_dict(flat: dict) -> BuildingAidParams:
+    """
+    Build BuildingAidParams from flat ``building_aid.*`` parameters (others are ignored).
+
+    Raises
+    ------
+    InputError : an unknown name, a wrong type, a value out of range.
+
+    """
+    values = _validated(flat, {s.name: s for s in _AID_SPECS})
+    return _build('building_aid', lambda: _fill(BuildingAidParams(), values,
+                                                BUILDING_AID_PREFIX))
 
 
 def gate_params_from_dict(flat: dict) -> GateParams:
@@ -738,7 +774,8 @@ def load_pipeline_params(path=None, building_file=None) -> PipelineParams:
                           elevation=elevation_params_from_dict(classifier),
                           gate=gate_params_from_dict(imu),
                           model_path=classifier.get('model_path', ''),
-                          building_file=str(building_file))
+                          building_file=str(building_file),
+                          building_aid=building_aid_params_from_dict({**imu, **classifier}))
 
 
 # -- files shipped with the package -----------------------------------------------------------
@@ -869,7 +906,8 @@ def params_yaml_text() -> str:
     return '\n'.join(lines) + '\n'
 
 
-__all__ = ['CLASSIFIER_NODE', 'IMU_NODE', 'ParamSpec', 'PipelineParams', 'all_specs',
+__all__ = ['building_aid_params_from_dict', 'CLASSIFIER_NODE', 'IMU_NODE', 'ParamSpec',
+           'PipelineParams', 'all_specs',
            'config_search_paths', 'elevation_params_from_dict', 'find_config_file',
            'gate_params_from_dict', 'is_ros_owned', 'load_model', 'load_params_yaml',
            'load_pipeline_params', 'model_file', 'navigator_params_from_dict', 'node_params',

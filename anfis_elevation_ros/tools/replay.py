@@ -22,7 +22,10 @@ every Imu message of the bag through the same objects the nodes run (input gate,
 - ``DIR/track.csv``: one row per navigated IMU sample: ``stamp_ns,x_m,y_m,z_m`` (EKF-corrected
   IMU position, ENU, origin where navigation starts), then ``qw,qx,qy,qz`` (attitude q_nb)
   and ``stance`` (zero-velocity flag). Samples before start-up (the first stance) and
-  rejected samples have no row.
+  rejected samples have no row. With a building that has a ``start``, x/y are in the
+  building's map frame (``core/map_frame.py``), and its ``stairs`` correct the track where the
+  walk enters them (``core/stair_database.py``, ``core/position_fix.py``); a corrected sample's
+  row holds the position before the correction.
 - ``DIR/cycles.csv``: one row per gait cycle: ``stamp_ns,mode,height_m,x_m,y_m`` (stamp of
   the first stance sample closing the cycle, stair mode, quantised height), then ``floor``,
   ``anfis_output``, ``valid``, ``raw_height_m`` (INS height) and the five features.
@@ -42,8 +45,11 @@ from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES
 from ..core.height import ElevationTracker
 from ..core.input_gate import InputGate
+from ..core.map_frame import map_alignment_for
 from ..core.navigator import FootNavigator
 from ..core.params import load_model, load_pipeline_params
+from ..core.position_fix import PositionFixQueue
+from ..core.stair_database import stair_monitor_for
 
 TRACK_COLUMNS = ('stamp_ns', 'x_m', 'y_m', 'z_m', 'qw', 'qx', 'qy', 'qz', 'stance')
 CYCLE_COLUMNS = ('stamp_ns', 'mode', 'height_m', 'x_m', 'y_m', 'floor', 'anfis_output', 'valid',
@@ -68,6 +74,10 @@ class ReplayResult:
         Samples the input gate refused, by reason.
     navigator : FootNavigator
         The navigator after the last sample (its ``status`` holds the health counters).
+    stair_monitor : StairEntryMonitor or None
+        Stair-entry associations (counters), when the building has stairs and a start.
+    fixes : PositionFixQueue
+        The stair-entry corrections requested and applied.
 
     """
 
@@ -76,6 +86,8 @@ class ReplayResult:
     cycles: list
     rejected: dict
     navigator: FootNavigator
+    stair_monitor: object = None
+    fixes: PositionFixQueue = None
 
 
 def navigated_samples(recording, gate: InputGate, navigator: FootNavigator):
@@ -108,9 +120,14 @@ def navigated_samples(recording, gate: InputGate, navigator: FootNavigator):
             yield k, out[0], out[1]
 
 
-def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
+def replay_recording(recording, pipeline, model, progress=None, building=None) -> ReplayResult:
     """
     Run the live pipeline over a recording.
+
+    The order is the live one: each sample through the navigator, then the stair-entry
+    corrections due at it (``PositionFixQueue.after_step``, as the IMU node), and a cycle it
+    closes through the classifier and the stair-entry association (as the classifier node),
+    whose request is due ``stair_fix_delay_s`` later.
 
     Parameters
     ----------
@@ -122,11 +139,17 @@ def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
         The stair-mode classifier.
     progress : callable or None
         Called as ``progress(done, total)`` every few seconds.
+    building : Building or None
+        The building (map frame, stair-position database).
 
     """
+    aid = pipeline.building_aid
     gate = InputGate(pipeline.gate)
-    navigator = FootNavigator(pipeline.navigator)
+    navigator = FootNavigator(pipeline.navigator,
+                              map_alignment=map_alignment_for(building, aid.align_strides))
     tracker = ElevationTracker(model, pipeline.elevation)
+    monitor = stair_monitor_for(building, aid.stair_fix_ratio)
+    fixes = PositionFixQueue(aid.stair_fix_delay_s, aid.stair_fix_sigma_m)
     n = len(recording)
     track_stamp_ns = np.empty(n, dtype=np.int64)
     track = np.empty((n, len(TRACK_COLUMNS) - 1))
@@ -139,13 +162,20 @@ def replay_recording(recording, pipeline, model, progress=None) -> ReplayResult:
         track[rows, 3:7] = point.quat_nb
         track[rows, 7] = point.stance
         rows += 1
+        fixes.after_step(navigator, point)
         if cycle is not None:
-            cycles.append(cycle_row(cycle, tracker))
+            row = cycle_row(cycle, tracker)
+            cycles.append(row)
+            if monitor is not None:
+                request = monitor.update(len(cycles), row[0], row[3], row[4], cycle.valid,
+                                         row[1], row[5])
+                if request is not None:
+                    fixes.submit(request)
         if progress is not None and time.monotonic() > next_report:
             progress(k + 1, n)
             next_report += PROGRESS_PERIOD_S
     return ReplayResult(track_stamp_ns[:rows], track[:rows], cycles, dict(gate.rejected),
-                        navigator)
+                        navigator, monitor, fixes)
 
 
 def cycle_row(cycle, tracker: ElevationTracker) -> tuple:
@@ -192,7 +222,8 @@ def run_replay(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
-    result = replay_recording(recording, pipeline, model, progress=_report_progress)
+    result = replay_recording(recording, pipeline, model, progress=_report_progress,
+                              building=building)
     elapsed_s = time.monotonic() - start
     write_csv(out / 'track.csv', TRACK_COLUMNS,
               ((stamp, *row) for stamp, row in zip(result.track_stamp_ns.tolist(), result.track)),
@@ -210,6 +241,11 @@ def run_replay(args: argparse.Namespace) -> int:
           f'cycles ({status.invalid_cycles} invalid), rejected: {rejected}; final height '
           f'{final[2] if final else 0.0:.2f} m, floor {final[5] if final else "-"}',
           file=sys.stderr)
+    if result.stair_monitor is not None:
+        monitor = result.stair_monitor
+        print(f'replay: {monitor.entries} stair entries, {monitor.accepted} associated with the '
+              f'database, {monitor.refused_far} too far, {monitor.refused_no_entry} with no '
+              f'entry; {result.fixes.applied_count} corrections applied', file=sys.stderr)
     return 0
 
 
