@@ -1,0 +1,70 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Benchmark of the navigator on the gdin_hallway walks: strides detected and horizontal error.
+
+Run from the repository root: ``python test/benchmarks/bench_gdin_hallway.py``. Per walk: gait
+cycles against ``numberOfStrides``, the final-position error as % of the path (truth polyline
+through the stride positions), and the mean error of the stride-end positions (only when every
+stride was detected, so that cycle i is stride i). The track's heading is aligned to the truth
+on the first ``ALIGN_STRIDES`` stride ends (least-squares rotation about the start): the IMU's
+initial heading is unknown, as in any foot-mounted INS benchmark.
+"""
+
+import numpy as np
+
+from anfis_elevation_ros.core.navigator import FootNavigator
+from anfis_elevation_ros.tools.datasets import dataset_files
+from anfis_elevation_ros.tools.gdin_hallway import load_gdin_walk
+
+ALIGN_STRIDES = 3
+
+
+def aligned(est_xy, truth_xy):
+    """Return est_xy rotated about the origin to fit truth_xy on the first stride ends."""
+    e, t = est_xy[1:ALIGN_STRIDES + 1], truth_xy[1:ALIGN_STRIDES + 1]
+    angle = np.arctan2(np.sum(e[:, 0] * t[:, 1] - e[:, 1] * t[:, 0]),
+                       np.sum(e[:, 0] * t[:, 0] + e[:, 1] * t[:, 1]))
+    c, s = np.cos(angle), np.sin(angle)
+    return est_xy @ np.array([[c, s], [-s, c]])
+
+
+def walk_figures(walk):
+    """Return (cycles, final error % of path, mean stride error m or NaN) of one walk."""
+    rec = walk.recording
+    track, cycles = FootNavigator().run(rec.stamp_ns, rec.acc_b, rec.gyr_b)
+    est = np.vstack([c.pos_n[:2] for c in cycles]) - track[0].pos_n[:2]
+    est = aligned(np.vstack([np.zeros(2), est]), walk.stride_pos_m)
+    final = np.linalg.norm(est[-1] - walk.stride_pos_m[-1])
+    mean = np.nan
+    if len(cycles) == walk.n_strides:
+        mean = float(np.mean(np.linalg.norm(est - walk.stride_pos_m, axis=1)))
+    return len(cycles), 100.0 * final / walk.path_length_m, mean
+
+
+def main():
+    finals = []
+    print('walk  cycles/strides  path m  final % of path  mean stride error m')
+    for path in dataset_files('gdin_hallway'):
+        walk = load_gdin_walk(path)
+        cycles, final_pct, mean_m = walk_figures(walk)
+        finals.append(final_pct)
+        print(f'{path.stem:22s} {cycles:4d}/{walk.n_strides:<4d} {walk.path_length_m:7.1f} '
+              f'{final_pct:8.1f} {mean_m:10.2f}')
+    print(f'median final error {np.median(finals):.1f} % of path, mean {np.mean(finals):.1f} %')
+
+
+if __name__ == '__main__':
+    main()
