@@ -23,11 +23,10 @@ on the first ``ALIGN_STRIDES`` stride ends (least-squares rotation about the sta
 initial heading is unknown, as in any foot-mounted INS benchmark.
 """
 
-import numpy as np
-
 from anfis_elevation_ros.core.navigator import FootNavigator
 from anfis_elevation_ros.tools.datasets import dataset_files
 from anfis_elevation_ros.tools.gdin_hallway import load_gdin_walk
+import numpy as np
 
 ALIGN_STRIDES = 3
 
