@@ -1,0 +1,22 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+
+"""
+The command centre: every responder's floor, position, track and alarms, on a web page.
+
+Not the estimator core and no ROS in it: ``incident`` is the model (fed by
+``nodes/command_centre_node.py``), ``alarms`` its alarm rules, ``web`` the HTTP server and
+``static/`` the page.
+"""
