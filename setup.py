@@ -58,6 +58,7 @@ STANDALONE_REQUIRES = [
     'PyYAML==6.0.3',
     'matplotlib==3.11.2',
     'scipy==1.17.1',
+    'XStatic-Leaflet==1.9.3.0',     # the command centre's map, served offline (no CDN)
 ]
 
 # Test and lint tools, pinned so that CI gives the same verdict next year. flake8 7.0 with
@@ -79,13 +80,14 @@ TEST_REQUIRES = [
     'pydocstyle==6.3.0',
     'colcon-core==0.21.3',
     'colcon-ros==0.5.0',
+    'selenium==4.50.0',     # the command centre's page in Debian's chromium + chromium-driver
 ]
 
 setup(
     name=PACKAGE_NAME,
     version='0.1.0',
     packages=find_packages(exclude=['test', 'test.*']),
-    package_data={PACKAGE_NAME: ['data/**/*']},
+    package_data={PACKAGE_NAME: ['data/**/*', 'command_centre/static/*']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + PACKAGE_NAME]),
         ('share/' + PACKAGE_NAME, ['package.xml']),

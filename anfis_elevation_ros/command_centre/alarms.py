@@ -24,7 +24,7 @@ Four causes, evaluated per responder from the times the incident model keeps:
   evaluated: ``lost_contact`` says what is known.
 - ``lost_contact``: no message at all from the responder for ``lost_contact_s``.
 - ``diagnostics_error``: one of the responder's diagnostics statuses is at ERROR.
-- ``floor_unknown``: the floor has been uncertain (``floor_certain`` False) for longer than
+- ``floor_unknown``: the floor has been uncertain (``floor_certain`` False) for
   ``floor_unknown_s``.
 
 An alarm clears only when it has been acknowledged and its cause is gone; acknowledging while

@@ -337,7 +337,7 @@ class Incident:
             if lost else None,
             al.DIAGNOSTICS_ERROR: _diagnostics_cause(r.diagnostics),
             al.FLOOR_UNKNOWN: (al.ALARM, f'floor uncertain for {now - r.uncertain_since:.0f} s')
-            if r.uncertain_since is not None and now - r.uncertain_since > p.floor_unknown_s
+            if r.uncertain_since is not None and now - r.uncertain_since >= p.floor_unknown_s
             else None,
         }
         level = None if lost else al.no_motion_level(now - r.last_motion, p)

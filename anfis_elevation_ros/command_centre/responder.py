@@ -70,14 +70,14 @@ class Responder:
         return math.hypot(self.x_m - self.anchor[0], self.y_m - self.anchor[1]) > threshold_m
 
     def lay_crumb(self, seq: int, spacing_m: float) -> None:
-        """Add a breadcrumb if the responder moved ``spacing_m`` or changed floor or height."""
+        """Add a breadcrumb [x, y, z, floor] if the responder moved ``spacing_m`` or floor."""
         if self.x_m is None:
             return
         crumb = [round(self.x_m, 2), round(self.y_m, 2),
                  None if self.z_m is None else round(self.z_m, 2), self.floor]
         if self.track:
             last = self.track[-1][1]
-            if last[3] == crumb[3] and last[2] == crumb[2] \
+            if last[3] == crumb[3] \
                     and math.hypot(crumb[0] - last[0], crumb[1] - last[1]) < spacing_m:
                 return
         self.track.append((seq, crumb))
