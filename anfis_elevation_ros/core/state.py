@@ -18,7 +18,8 @@ Persisted tracking state: what a restarted node needs to carry on without a wron
 Each node owns one state file (two processes never write the same file):
 
 - the IMU node writes a ``NavigationState`` (position, heading, filter status, IMU identity,
-  cycle count) and resumes the INS from it;
+  cycle count, the frame of the position and the stair-entry corrections already in it) and
+  resumes the INS from it;
 - the classifier node writes an ``ElevationState`` (quantised height, floor, the last cycle it
   counted) and resumes the height from it.
 
@@ -27,7 +28,7 @@ file in the same directory, fsync, rename) with permissions 0600 at every gait c
 back on start when it is fresh enough and comes from the same source.
 """
 
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, field, fields
 import json
 import math
 import os
@@ -40,6 +41,7 @@ from .errors import InputError
 STATE_FORMAT = 'anfis_elevation_ros.state'
 STATE_VERSION = 2
 MAX_STATE_BYTES = 64 * 1024  # a state file is a few hundred bytes; refuse anything large
+MAX_STAIR_FIXES = 1000       # identities of applied corrections kept (core/position_fix.py: 256)
 
 
 def _check_fields(state):
@@ -81,6 +83,12 @@ class NavigationState:
         Gait cycles published so far (the cycle index carries on from it).
     stride_period_s : float
         Recent median time between gait cycles, s (estimates the cycles lost in an outage).
+    map_frame : bool
+        True when the position is in a building's map frame (``core/map_frame.py``), False in
+        the track's own start frame; a state is resumed only into the same kind of frame.
+    stair_fixes : list of int
+        Identities (cycle stamps, ns) of the stair-entry corrections already contained in the
+        position (``core/position_fix.py``): never applied again after a resume.
 
     """
 
@@ -94,12 +102,18 @@ class NavigationState:
     filter_ok: bool
     cycles: int
     stride_period_s: float
+    map_frame: bool = False
+    stair_fixes: list = field(default_factory=list)
 
     def __post_init__(self):
         _check_fields(self)
         if not 0.1 <= self.stride_period_s <= 10.0:
             raise InputError(f'state stride_period_s = {self.stride_period_s} is outside '
                              '[0.1, 10] s')
+        if len(self.stair_fixes) > MAX_STAIR_FIXES or not all(
+                isinstance(v, int) and not isinstance(v, bool) for v in self.stair_fixes):
+            raise InputError(f'state stair_fixes must be at most {MAX_STAIR_FIXES} integers '
+                             '(cycle stamps, ns)')
 
 
 @dataclass(frozen=True)
