@@ -88,6 +88,28 @@ def test_ack_needs_the_token_and_clears_nothing_without_it():
         assert server.refused == {401: 4, 404: 1}
 
 
+def test_a_refused_write_does_not_spoil_the_next_request_on_the_connection():
+    incident, alarm_id = incident_with_alarm()
+    with running_server(incident) as server:
+        host, port = server.server_address[:2]
+        connection = http.client.HTTPConnection(host, port, timeout=10)
+        body = json.dumps({'alarm_id': alarm_id})
+        statuses = []
+        for token in ('wrong-token-0123456789', TOKEN):
+            try:
+                connection.request('POST', '/api/ack', body, {'Authorization': f'Bearer {token}'})
+            except (http.client.HTTPException, OSError):    # the server closed it: reconnect
+                connection.close()
+                connection.request('POST', '/api/ack', body, {'Authorization': f'Bearer {token}'})
+            response = connection.getresponse()
+            response.read()
+            statuses.append(response.status)
+            if response.getheader('Connection') == 'close':
+                connection.close()
+        connection.close()
+    assert statuses == [401, 200]
+
+
 def test_evacuation_and_roll_call_with_the_token():
     incident, _ = incident_with_alarm()
     with running_server(incident) as server:

@@ -97,7 +97,7 @@ class Incident:
                 return
             now = self._clock()
             if r.elevation_stamp_ns != int(stamp_ns):
-                r.elevation_stamp_ns = int(stamp_ns)
+                r.elevation_stamp_ns = r.stamp_ns = int(stamp_ns)
                 r.moved(now, float(x_m), float(y_m))
             r.z_m = float(z_m)
             if r.pose_stamp_ns is None:
@@ -160,7 +160,7 @@ class Incident:
             if r is None:
                 return
             now = self._clock()
-            r.pose_stamp_ns = int(stamp_ns)
+            r.pose_stamp_ns = r.stamp_ns = int(stamp_ns)
             r.x_m, r.y_m = float(x_m), float(y_m)
             r.heading_deg = float(heading_deg) % 360.0
             r.sigma_xy_m = None if sigma_xy_m is None else float(sigma_xy_m)

@@ -49,6 +49,7 @@ class Responder:
         self.sigma_xy_m = None
         self.pose_stamp_ns = None
         self.elevation_stamp_ns = None
+        self.stamp_ns = None            # the latest pose or elevation message's stamp
         self.diagnostics = {}
         self.alarms = {}
         self.last_update = now
@@ -124,6 +125,7 @@ class Responder:
             'heading_deg': self.heading_deg,
             'sigma_xy_m': self.sigma_xy_m,
             'last_update_age_s': round(now - self.last_update, 3),
+            'stamp_unix_s': None if self.stamp_ns is None else self.stamp_ns / 1e9,
             'last_motion_age_s': round(now - self.last_motion, 3),
             'data_quality': self.data_quality,
             'diagnostics': [{'name': name, 'level': QUALITY[level], 'message': message}

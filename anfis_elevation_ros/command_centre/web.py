@@ -180,6 +180,7 @@ class Handler(BaseHTTPRequestHandler):
     server_version = 'anfis-command-centre'
     protocol_version = 'HTTP/1.1'
     timeout = REQUEST_TIMEOUT_S
+    _body_read = False
 
     def log_message(self, format, *args):  # noqa: A002 (the base class's name)
         """Log requests at debug level only (a push stream per page, many reads)."""
@@ -208,7 +209,8 @@ class Handler(BaseHTTPRequestHandler):
         return self._refuse(HTTPStatus.NOT_FOUND, 'no such page')
 
     def _stream(self, query: str):
-        since = parse_qs(query).get('since', [''])[0] or self.headers.get('Last-Event-ID', '')
+        # A reconnecting EventSource sends the last id it got: it wins over the first ?since.
+        since = self.headers.get('Last-Event-ID', '') or parse_qs(query).get('since', [''])[0]
         try:
             seq = max(0, int(since))
         except ValueError:
@@ -249,6 +251,7 @@ class Handler(BaseHTTPRequestHandler):
 
     def do_POST(self):  # noqa: N802 (http.server's name)
         """Acknowledge an alarm, order evacuation or take a roll call (token needed)."""
+        self._body_read = False
         path = urlsplit(self.path).path
         if path not in ('/api/ack', '/api/evacuate', '/api/roll_call'):
             return self._refuse(HTTPStatus.NOT_FOUND, 'no such action')
@@ -289,6 +292,7 @@ class Handler(BaseHTTPRequestHandler):
                          f'the body is limited to {MAX_BODY_BYTES} bytes')
             return None
         raw = self.rfile.read(length) if length else b'{}'
+        self._body_read = True
         try:
             body = json.loads(raw.decode('utf-8'))
         except (UnicodeDecodeError, json.JSONDecodeError):
@@ -312,7 +316,7 @@ class Handler(BaseHTTPRequestHandler):
 
     def _refuse(self, status, message: str, headers=None):
         self.server.count_refusal(int(status))
-        if status == HTTPStatus.REQUEST_ENTITY_TOO_LARGE:
+        if self.command == 'POST' and not self._body_read:
             self.close_connection = True      # the unread body must not be parsed as a request
         return self._send(status, json.dumps({'error': message}).encode(), 'application/json',
                           headers)
