@@ -268,6 +268,9 @@ _MODEL_PATH = ParamSpec('model_path', '', "ANFIS model JSON file; '' is the pack
 _BUILDING_FILE = ParamSpec('building_file', '', 'Building file of the incident (YAML, format '
                            "anfis_elevation_ros/building: floors, stairs, entrance); '' for "
                            'none.')
+_MAP_FRAME_ID = ParamSpec('map_frame_id', 'map', 'Frame of building coordinates (REP 105 '
+                          'map): the elevation points, and the foot track and gait cycles when '
+                          'the building file has a start.')
 _IMU_NODE_ONLY = (
     ParamSpec('imu_topic', 'imu/data', 'sensor_msgs/Imu topic to subscribe to (relative: in the '
               "node's namespace, /imu/data without one, /ff1/imu/data under /ff1)."),
@@ -276,7 +279,9 @@ _IMU_NODE_ONLY = (
     ParamSpec('imu_batch_period_s', 0.008, 'Imu messages are taken in batches this often, s '
               '(at 400 Hz about a fifth less CPU than one callback per message, for at most this '
               'much more latency); 0 handles each message in its own callback.', 0.0, 0.05),
-    ParamSpec('odom_frame_id', 'odom', 'Frame of the published foot track (REP 105).'),
+    ParamSpec('odom_frame_id', 'odom', 'Frame of the published foot track and gait cycles '
+              'without a building start (REP 105).'),
+    _MAP_FRAME_ID,
     ParamSpec('track_rate_hz', 10.0, 'Rate of the foot_odom track, Hz; 0 publishes none.', 0.0,
               100.0),
     ParamSpec('diagnostics_rate_hz', 1.0, 'Rate of the /diagnostics status, Hz.', 0.1, 10.0),
@@ -284,7 +289,7 @@ _IMU_NODE_ONLY = (
 ) + _PERSISTENCE
 _CLASSIFIER_NODE_ONLY = (
     _MODEL_PATH,
-    ParamSpec('map_frame_id', 'map', 'Frame of the published elevation points.'),
+    _MAP_FRAME_ID,
     _BUILDING_FILE,
 ) + _PERSISTENCE
 

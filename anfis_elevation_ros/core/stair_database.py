@@ -224,6 +224,7 @@ class StairEntryMonitor:
         self.refused_no_entry = 0
         self.last_distance_m = math.nan
         self.last_threshold_m = math.nan
+        self.last_stamp_ns = None    # of the last stair entry
 
     def update(self, cycle_index: int, stamp_ns: int, x_m: float, y_m: float, valid: bool,
                mode: int, floor: int) -> Optional[CorrectionRequest]:
@@ -245,6 +246,7 @@ class StairEntryMonitor:
         if not entering:
             return None
         self.entries += 1
+        self.last_stamp_ns = int(stamp_ns)
         entries, positions = self._database.table(level_floor, mode)
         k, distance_m = nearest_entry(positions, (x_m, y_m))
         threshold_m = association_threshold_m(self.distance_m, self._ratio)

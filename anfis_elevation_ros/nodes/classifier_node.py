@@ -37,9 +37,17 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     once at start.
     ``floor_certain``, std_msgs/Bool, with every ``floor``: whether the floor is known (a map
     shows 'Floor ?' when it is not).
+    ``stair_fix``, sensor_msgs/PointCloud2 (layout in ``nodes/stair_fix_msg.py``), reliable,
+    transient local, depth 100, only with a building file that has ``stairs`` and a ``start``:
+    one correction request per stair entry associated with the stair-position database
+    (``core/stair_database.py``: the first stair cycle after level walking, the nearest entry
+    of that direction on the floor walked, closer than th_st = ``building_aid.stair_fix_ratio``
+    x the distance walked since the last correction). The IMU node applies each once.
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray at 1 Hz: "/classifier_node: elevation"
     (cycles classified, invalid, bridged, unbridged, missed (index gaps), malformed, height,
-    floor, mode, resumed or not, failed state writes).
+    floor, mode, resumed or not, failed state writes; with stairs: stair entries seen,
+    associations accepted, refused as too far or for want of an entry, cycles not in the map
+    frame, distance since the last correction).
 
 Parameters: ``elevation.*`` (step height, mode threshold, storey height and start floor may
 change live; the height is kept), ``model_path``, ``map_frame_id``, persistence; see
@@ -50,6 +58,9 @@ the node writes an ``ElevationState`` (quantised height, floor, stamp and index 
 cycle counted, source = the resolved gait_cycle topic) atomically with permissions 0600. On
 start a fresh state from the same topic is resumed: the height carries on, and cycles up to
 the saved index and stamp are not counted twice. The log says whether it resumed or started fresh.
+The stair-entry monitor is not saved: a restarted node measures the distance walked for eq. (18)
+from its restart (a stricter threshold for the first entry), and a request it repeats is
+refused by the IMU node as a duplicate.
 """
 
 import sys
@@ -64,14 +75,17 @@ from std_msgs.msg import Bool, Int32, Int8
 from .diagnostics import diagnostic_status
 from .gait_cycle_msg import cycle_from_msg
 from .node_params import declare_node_parameters, LiveParameters
-from .qos import cycle_history_qos, DIAGNOSTICS_QOS, LATEST_QOS
+from .qos import cycle_history_qos, DIAGNOSTICS_QOS, LATEST_QOS, STAIR_FIX_QOS
 from .spin import spin_node
+from .stair_fix_msg import request_to_msg
 from .stamps import ns_to_stamp
 from .state_writer import PersistsState
 from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
-from ..core.params import CLASSIFIER_NODE, elevation_params_from_dict, load_model, model_file
+from ..core.params import building_aid_params_from_dict, CLASSIFIER_NODE
+from ..core.params import elevation_params_from_dict, load_model, model_file
+from ..core.stair_database import stair_monitor_for
 from ..core.state import ElevationState, resumable_state, state_file
 
 LOG_PERIOD_S = 5.0
@@ -133,12 +147,20 @@ class ClassifierNode(PersistsState, Node):
         self._internal_errors = 0
         self._last_mode = 0
         self._floor = self._tracker.floor
+        self._stair_monitor = stair_monitor_for(
+            self._building, building_aid_params_from_dict(values).stair_fix_ratio)
+        self._not_in_map_frame = 0
 
         self._elevation_pub = self.create_publisher(PointStamped, 'elevation', LATEST_QOS)
         self._mode_pub = self.create_publisher(Int8, 'stair_mode', LATEST_QOS)
         self._floor_pub = self.create_publisher(Int32, 'floor', LATEST_QOS)
         self._floor_certain_pub = self.create_publisher(Bool, 'floor_certain', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
+        self._fix_pub = None
+        if self._stair_monitor is not None:
+            self._fix_pub = self.create_publisher(PointCloud2, 'stair_fix', STAIR_FIX_QOS)
+            self.get_logger().info(f'stair-position database: {len(self._building.stairs)} '
+                                   'entries; corrections requested on stair_fix')
         self.create_subscription(PointCloud2, 'gait_cycle', self._on_cycle,
                                  cycle_history_qos(values['cycle_history']))
         self.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
@@ -183,6 +205,8 @@ class ClassifierNode(PersistsState, Node):
         self._last_stamp_ns, self._last_index = cycle.stamp_ns, cycle.index
         if self._persist:
             self._save_state()
+        if self._stair_monitor is not None:
+            self._watch_stair_entry(cycle, estimate, msg.header.frame_id)
         if not cycle.valid:
             self._invalid += 1
             return
@@ -203,6 +227,32 @@ class ClassifierNode(PersistsState, Node):
             self.get_logger().info(f'floor {self._floor} -> {estimate.floor} (height '
                                    f'{estimate.height_m:.2f} m)')
             self._floor = estimate.floor
+
+    def _watch_stair_entry(self, cycle, estimate, frame_id: str):
+        """Give the cycle to the stair-entry monitor; publish the request it makes, if any."""
+        if frame_id != self._map_frame_id:
+            # The IMU node has no building start: its x/y are not building coordinates.
+            self._not_in_map_frame += 1
+            self.get_logger().warning(
+                f'gait cycles in frame {frame_id!r}, not {self._map_frame_id!r}: no stair-entry '
+                'correction (give the IMU node the same building file)',
+                throttle_duration_sec=LOG_PERIOD_S)
+            return
+        monitor = self._stair_monitor
+        request = monitor.update(cycle.index, cycle.stamp_ns, cycle.x_m, cycle.y_m, cycle.valid,
+                                 estimate.mode, estimate.floor)
+        if monitor.entries and monitor.last_stamp_ns == cycle.stamp_ns:
+            where = (f'{monitor.last_distance_m:.2f} m from the nearest entry, threshold '
+                     f'{monitor.last_threshold_m:.2f} m')
+            if request is None:
+                self.get_logger().info(f'stair entry at cycle {cycle.index} not associated: '
+                                       f'{where}')
+            else:
+                self._fix_pub.publish(request_to_msg(request, self._map_frame_id))
+                self.get_logger().info(
+                    f'stair entry at cycle {cycle.index}: stairwell {request.stairwell} (floor '
+                    f'{request.floor}, {"up" if request.direction > 0 else "down"}), {where}; '
+                    'correction requested')
 
     def _note_cycle_index(self, index: int):
         if index > self._last_index + 1:
@@ -240,7 +290,8 @@ class ClassifierNode(PersistsState, Node):
             (self._malformed, 'malformed cycles'), (self._missed, 'cycles never received'),
             (tracker.unbridged_cycles, 'invalid cycles not bridged'),
             (tracker.implausible_cycles, 'implausible climbs'),
-            (self._state_write_errors(), 'failed state writes')) if n]
+            (self._state_write_errors(), 'failed state writes'),
+            (self._not_in_map_frame, 'cycles not in the map frame (no stair fixes)')) if n]
         if self._internal_errors:
             level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
         elif problems:
@@ -256,6 +307,9 @@ class ClassifierNode(PersistsState, Node):
                   'last_mode': self._last_mode, 'resumed': self._resumed,
                   'state_write_errors': self._state_write_errors(),
                   'internal_errors': self._internal_errors}
+        if self._stair_monitor is not None:
+            values.update(self._stair_monitor.counters)
+            values['stair_fix_not_in_map_frame'] = self._not_in_map_frame
         msg = DiagnosticArray(status=[diagnostic_status(
             f'{self.get_fully_qualified_name()}: elevation', level,
             message, self._map_frame_id, values)])

@@ -42,12 +42,25 @@ Publishes:
     ``track_rate_hz`` (10 Hz): the latest EKF pose of the IMU, frame ``odom_frame_id``
     (REP 105 ``odom``), child frame the IMU frame; position covariance from the filter
     (isotropic, sigma^2 / 3 per axis), the rest unknown (0); twist not estimated (0).
+    With a building file that has a ``start``, ``foot_odom`` and ``gait_cycle`` are in the
+    building's frame, ``map_frame_id`` (REP 105 ``map``: the track starts at the entrance,
+    turned so that its first strides point along ``start.heading_deg``, ``core/map_frame.py``;
+    stair-entry corrections make it jump, as a map-frame pose may).
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray, at ``diagnostics_rate_hz`` (1 Hz):
     "/imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps, samples lost
     in transit estimated from the stamps: WARN above 1 % per period) and
     "/imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma,
-    resumed or not, state file and failed writes). The names start with the node's full
-    name: "/ff1/imu_node: IMU input" under the namespace /ff1.
+    resumed or not, state file and failed writes; with stairs: stair-entry corrections
+    received, applied, pending, late, duplicate, stale, malformed, last NIS). The names start
+    with the node's full name: "/ff1/imu_node: IMU input" under the namespace /ff1.
+Subscribes too, with a building that has ``stairs`` and a ``start``:
+    ``stair_fix``, sensor_msgs/PointCloud2 (``nodes/stair_fix_msg.py``), reliable, transient
+    local, depth 100: the classifier's stair-entry correction requests. Each is applied once,
+    as a horizontal position measurement in the EKF, at the first stance sample at least
+    ``building_aid.stair_fix_delay_s`` (0.5 s) of sensor time after its gait cycle
+    (``core/position_fix.py``): the sample ``replay`` applies it at, so live equals replay.
+    One that arrives after that sample was handled (the classifier stalled) is applied at the
+    next stance and counted as late (WARN: the track then differs from a replay).
 
 Parameters: every navigator and input-gate parameter of ``core/params.py`` (read once at start;
 the ``gate.*`` ones may change live) and the node-level ones listed there.
@@ -62,6 +75,10 @@ otherwise it starts fresh. The log says which, and why. The motion while the nod
 unknown: at its first stance the resumed node publishes one invalid cycle per stride period
 (recent median) that passed since the saved cycle, at most ``MAX_OUTAGE_CYCLES``, so that a
 restart in the middle of a stair flight is bridged like any gap (``core/height.py``).
+The state also says whether the position is in the building's map frame (a state is resumed
+only into the same kind of frame) and which stair-entry corrections it already contains: those
+are never applied again, and a request the restarted node gets again from the topic's history
+that the saved position does not contain yet is applied once, late.
 """
 
 from collections import deque
@@ -80,8 +97,9 @@ from .gait_cycle_msg import cycle_to_msg
 from .imu_msg import imu_sample_from_cdr
 from .node_params import declare_node_parameters, LiveParameters
 from .polled_subscription import PolledSubscription
-from .qos import cycle_history_qos, DIAGNOSTICS_QOS, imu_qos, LATEST_QOS
+from .qos import cycle_history_qos, DIAGNOSTICS_QOS, imu_qos, LATEST_QOS, STAIR_FIX_QOS
 from .spin import spin_node
+from .stair_fix_msg import request_from_msg
 from .stamps import ns_to_stamp
 from .state_writer import PersistsState
 from ..core.building import load_building_file
@@ -89,8 +107,11 @@ from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
 from ..core.input_gate import WRONG_UNITS
+from ..core.map_frame import map_alignment_for
 from ..core.navigator import compile_navigator, FootNavigator
-from ..core.params import gate_params_from_dict, IMU_NODE, navigator_params_from_dict
+from ..core.params import building_aid_params_from_dict, gate_params_from_dict, IMU_NODE
+from ..core.params import navigator_params_from_dict
+from ..core.position_fix import PositionFixQueue
 from ..core.state import NavigationState, resumable_state, state_file
 
 REJECT_LOG_PERIOD_S = 5.0
@@ -120,15 +141,22 @@ class ImuNode(PersistsState, Node):
         super().__init__(IMU_NODE, **kwargs)
         values = declare_node_parameters(self, IMU_NODE)
         self._navigator_params = navigator_params_from_dict(values)
-        self._navigator = FootNavigator(self._navigator_params)
         self._gate = InputGate(gate_params_from_dict(values))
         self._building = load_building_file(values['building_file'])
         if self._building is not None:
             self.get_logger().info(f'building {self._building.name or ""} loaded from '
                                    f'{self._building.source}')
+        aid = building_aid_params_from_dict(values)
+        self._navigator = FootNavigator(
+            self._navigator_params, map_alignment=map_alignment_for(self._building,
+                                                                    aid.align_strides))
+        self._in_map_frame = self._building is not None and self._building.start is not None
+        self._fixes = PositionFixQueue(aid.stair_fix_delay_s, aid.stair_fix_sigma_m)
+        self._take_fixes = self._in_map_frame and bool(self._building.stairs)
+        self._malformed_fixes = 0
         self._live_parameters = LiveParameters(
             self, IMU_NODE, values, self._check_parameters, self._apply_parameters)
-        self._odom_frame_id = values['odom_frame_id']
+        self._track_frame_id = values['map_frame_id' if self._in_map_frame else 'odom_frame_id']
         self._imu_frame_id = values['gate.frame_id']
         self._received = 0
         self._internal_errors = 0
@@ -169,11 +197,13 @@ class ImuNode(PersistsState, Node):
                                              due_s=self._closing_sample_due_s)
         else:
             self.create_subscription(Imu, values['imu_topic'], self._on_imu, qos, raw=True)
+        if self._take_fixes:
+            self.create_subscription(PointCloud2, 'stair_fix', self._on_stair_fix, STAIR_FIX_QOS)
         if values['track_rate_hz'] > 0.0:
             self.create_timer(1.0 / values['track_rate_hz'], self._publish_track)
         self.create_timer(1.0 / values['diagnostics_rate_hz'], self._publish_diagnostics)
         self.get_logger().info(f'listening on {self._imu_topic}; waiting for the first stance '
-                               'to start navigating')
+                               f'to start navigating; track in frame {self._track_frame_id!r}')
 
     # -- parameters ----------------------------------------------------------------------------
 
@@ -200,6 +230,34 @@ class ImuNode(PersistsState, Node):
                                     f'{err}); sample skipped',
                                     throttle_duration_sec=REJECT_LOG_PERIOD_S)
 
+    def _on_stair_fix(self, msg: PointCloud2):
+        try:
+            self._handle_stair_fix(msg)
+        except Exception as err:   # noqa: B902 a bug must not stop a firefighter's tracking
+            self._internal_errors += 1
+            self.get_logger().error(f'internal error on a stair_fix request '
+                                    f'({type(err).__name__}: {err}); request skipped')
+
+    def _handle_stair_fix(self, msg: PointCloud2):
+        try:
+            request = request_from_msg(msg)
+            if msg.header.frame_id != self._track_frame_id:
+                raise InputError(f'its frame is {msg.header.frame_id!r}, not '
+                                 f'{self._track_frame_id!r}')
+        except InputError as err:
+            self._malformed_fixes += 1
+            self.get_logger().warning(f'stair_fix request refused: {err}')
+            return
+        with self._lock:
+            verdict = self._fixes.submit(request)
+        text = (f'stair-entry correction of cycle {request.cycle_index} {verdict} (entry '
+                f'({request.entry_x_m:.2f}, {request.entry_y_m:.2f}) m)')
+        if verdict == 'late':
+            self.get_logger().warning(f'{text}: its sample has passed, applied at the next '
+                                      'stance; the track now differs from a replay')
+        else:
+            self.get_logger().info(text)
+
     def _closing_sample_due_s(self):
         """Seconds until the sample that will close a gait cycle, if one is foreseen."""
         samples = self._navigator.samples_to_stance
@@ -225,6 +283,8 @@ class ImuNode(PersistsState, Node):
             return
         if self._source_id is None:
             self._resume_or_start_fresh(frame_id)
+            if not self._resumed:
+                self._fixes.refuse_before(stamp_ns)   # requests of an earlier walk
         was_initialised = self._navigator.initialised
         try:
             out = self._navigator.step(stamp_ns, np.array(acc_b), np.array(gyr_b))
@@ -242,6 +302,11 @@ class ImuNode(PersistsState, Node):
                                    f'{frame_id!r})')
             if self._resumed_from is not None:
                 self._publish_outage(point)
+        for request in self._fixes.after_step(self._navigator, point):
+            dx, dy = request.innovation_xy
+            self.get_logger().info(f'stair-entry correction of cycle {request.cycle_index} '
+                                   f'applied: ({dx:+.2f}, {dy:+.2f}) m, NIS '
+                                   f'{self._fixes.last_nis:.1f}')
         if not self._imu_frame_id:
             self._imu_frame_id = frame_id
         self._last_point = point
@@ -252,7 +317,7 @@ class ImuNode(PersistsState, Node):
 
     def _publish_cycle(self, cycle):
         self._cycle_index += 1
-        self._cycle_pub.publish(cycle_to_msg(cycle, self._odom_frame_id, self._cycle_index))
+        self._cycle_pub.publish(cycle_to_msg(cycle, self._track_frame_id, self._cycle_index))
         if self._last_cycle_stamp_ns is not None:
             period_s = (cycle.stamp_ns - self._last_cycle_stamp_ns) * 1e-9
             if MIN_STRIDE_PERIOD_S <= period_s <= MAX_STRIDE_PERIOD_S:
@@ -296,12 +361,18 @@ class ImuNode(PersistsState, Node):
                                         self._state_max_age_s)
         if state is not None and not state.filter_ok:
             state, reason = None, 'starting fresh: the saved state had an unhealthy filter'
+        if state is not None and state.map_frame != self._in_map_frame:
+            frames = ['map' if in_map else 'start'
+                      for in_map in (state.map_frame, self._in_map_frame)]
+            state, reason = None, (f'starting fresh: the saved position is in the {frames[0]} '
+                                   f'frame, the track now in the {frames[1]} frame')
         if state is None:
             self.get_logger().info(reason)
             return
         self._navigator = FootNavigator(self._navigator_params,
                                         start_pos_n=(state.x_m, state.y_m, state.z_m),
                                         start_heading_rad=state.heading_rad)
+        self._fixes.restore(state.stair_fixes)
         self._cycle_index = state.cycles
         self._last_cycle_stamp_ns = state.stamp_ns
         self._periods_s.append(state.stride_period_s)
@@ -322,7 +393,8 @@ class ImuNode(PersistsState, Node):
             z_m=float(pos_n[2]) if filter_ok else 0.0,
             heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
             filter_ok=filter_ok, cycles=self._cycle_index,
-            stride_period_s=self._stride_period_s()))
+            stride_period_s=self._stride_period_s(), map_frame=self._in_map_frame,
+            stair_fixes=self._fixes.applied_before(cycle.stamp_ns)))
 
     # -- outputs -------------------------------------------------------------------------------
 
@@ -339,7 +411,7 @@ class ImuNode(PersistsState, Node):
             return
         msg = Odometry()
         msg.header.stamp = ns_to_stamp(point.stamp_ns)
-        msg.header.frame_id = self._odom_frame_id
+        msg.header.frame_id = self._track_frame_id
         msg.child_frame_id = self._imu_frame_id
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         p.x, p.y, p.z = (float(v) for v in point.pos_n)
@@ -398,6 +470,10 @@ class ImuNode(PersistsState, Node):
         elif self._state_write_errors():
             level, message = DiagnosticStatus.WARN, (f'{self._state_write_errors()} failed '
                                                      'state writes')
+        elif self._fixes.late or self._malformed_fixes:
+            level, message = DiagnosticStatus.WARN, (
+                f'stair-entry corrections: {self._fixes.late} late, {self._malformed_fixes} '
+                'malformed')
         elif not status.initialised:
             level, message = DiagnosticStatus.WARN, 'waiting for the first stance'
         else:
@@ -410,7 +486,10 @@ class ImuNode(PersistsState, Node):
             'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m,
             'resumed': self._resumed, 'outage_cycles': self._outage_cycles,
             'state_file': str(self._state_path) if self._persist else '',
-            'state_write_errors': self._state_write_errors()}
+            'state_write_errors': self._state_write_errors(), 'frame_id': self._track_frame_id}
+        if self._take_fixes:
+            nav_values.update(self._fixes.counters)
+            nav_values['stair_fix_malformed'] = self._malformed_fixes
         statuses.append(diagnostic_status(f'{self._full_name}: foot navigator', level, message,
                                           hardware_id, nav_values))
         msg = DiagnosticArray(status=statuses)

@@ -26,6 +26,11 @@ QoS profiles of the nodes' topics: a decision per topic.
 - ``LATEST_QOS``: reliable, transient local, depth 1, for "latest state" topics (``elevation``,
   ``stair_mode``, ``floor``, ``foot_odom``): a late subscriber gets the current value at once.
 - ``DIAGNOSTICS_QOS``: reliable, volatile, depth 10 (what diagnostic_aggregator expects).
+- ``STAIR_FIX_QOS``: reliable, transient local, depth ``STAIR_FIX_HISTORY`` (100), for
+  ``stair_fix``, the classifier's stair-entry correction requests to the IMU node: every request
+  counts (none is lost), and a restarted IMU node gets again those it may not have applied yet
+  (it applies each at most once: ``core/position_fix.py``). A walk enters far fewer stairs
+  than that between two restarts.
 """
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -39,6 +44,10 @@ LATEST_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
 DIAGNOSTICS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                              reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.VOLATILE)
+STAIR_FIX_HISTORY = 100
+STAIR_FIX_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=STAIR_FIX_HISTORY,
+                           reliability=ReliabilityPolicy.RELIABLE,
+                           durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 def cycle_history_qos(depth: int) -> QoSProfile:
