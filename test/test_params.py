@@ -79,10 +79,10 @@ def test_names_the_brief_lists():
     for name in ('elevation.step_height_m', 'elevation.mode_threshold',
                  'elevation.floor_height_m', 'elevation.start_floor', 'model_path'):
         assert name in classifier
-    # Only the persistence parameters (each node its own state file) and the building are on
-    # both nodes.
+    # Only the persistence parameters (each node its own state file), the building and its
+    # frame are on both nodes.
     assert set(imu) & set(classifier) == {'persist_state', 'state_dir', 'state_max_age_s',
-                                          'cycle_history', 'building_file'}
+                                          'cycle_history', 'building_file', 'map_frame_id'}
 
 
 def test_both_nodes_read_one_building_file(tmp_path):
