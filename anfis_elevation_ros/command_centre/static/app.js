@@ -21,7 +21,7 @@
   };
   // Read by the browser tests and the benchmark: latency of each responder update (s, from
   // its message stamp to the end of the render that showed it) and the number of renders.
-  const probe = { latencies: [], renders: 0, batches: 0, state: state };
+  const probe = { latencies: [], renders: 0, batches: 0, renderSeconds: 0, state: state };
   window.commandCentre = probe;
 
   let selectedFloor = null;
@@ -108,6 +108,7 @@
     entry.track = track;
     entry.trackChanged = !old || old.trackChanged || track !== old.track;
     entry.receivedAt = performance.now();
+    entry.dirty = true;
     state.responders.set(entry.id, entry);
     if (entry.stamp_unix_s !== null && entry.stamp_unix_s !== undefined) {
       pendingStamps.push(entry.stamp_unix_s);
@@ -188,6 +189,7 @@
   }
 
   function render() {
+    const started = performance.now();
     renderScheduled = false;
     if (selectedFloor === null) { selectedFloor = defaultFloor(); }
     renderBanner();
@@ -201,6 +203,7 @@
     pendingStamps.forEach(function (stamp) { probe.latencies.push(now - stamp); });
     pendingStamps = [];
     probe.renders += 1;
+    probe.renderSeconds += (performance.now() - started) / 1000;
   }
 
   function defaultFloor() {
@@ -390,7 +393,7 @@
     drawGrid(b);
     drawPlan();
     map.fitBounds([ll(b[0], b[1]), ll(b[2], b[3])]);
-    drawn.forEach(function (d) { d.trackFloor = undefined; });
+    drawn.forEach(function (d) { d.floorDrawn = undefined; });
   }
 
   function responderColour(r) {
@@ -421,32 +424,43 @@
       d.arrow = L.polyline([], { weight: 4, interactive: false }).addTo(d.group);
       d.dot = L.circleMarker([0, 0], { radius: 9, weight: 3, color: '#fff', fillOpacity: 1,
         className: 'responder' }).addTo(d.group);
-      d.dot.bindTooltip('', { permanent: true, direction: 'top', offset: [0, -10],
-        className: 'responder-label' });
       d.dot.on('click', function () { selectResponder(r.id, false); });
+      // A label of fixed anchor: moving it never makes the browser measure it (a tooltip does).
+      d.label = L.marker([0, 0], { interactive: false, keyboard: false }).addTo(d.group);
       drawn.set(r.id, d);
+    } else if (!r.dirty && d.floorDrawn === selectedFloor) {
+      return;
     }
+    r.dirty = false;
     if (r.x_m === null) { d.group.remove(); return; }
     if (!layers.responders.hasLayer(d.group)) { d.group.addTo(layers.responders); }
     const here = r.floor === selectedFloor;
     const colour = here ? responderColour(r) : '#888';
     const opacity = here ? 1 : 0.35;
     const at = ll(r.x_m, r.y_m);
-    d.dot.setLatLng(at).setStyle({ fillColor: colour, opacity: opacity, fillOpacity: opacity });
-    d.dot.setTooltipContent(r.id.replace(/^\//, '') + (here ? '' : ' (' + floorText(r) + ')'));
-    const label = d.dot.getTooltip().getElement();
-    if (label) {
-      label.classList.toggle('dimmed', !here);
-      label.classList.toggle('alarm', here && colour === '#c00000');
-    }
-    const path = d.dot.getElement();
-    if (path) {
+    d.dot.setLatLng(at);
+    d.label.setLatLng(at);
+    const look = colour + opacity;
+    if (d.look !== look) {
+      d.look = look;
+      d.dot.setStyle({ fillColor: colour, opacity: opacity, fillOpacity: opacity });
+      d.arrow.setStyle({ color: colour, opacity: opacity });
+      d.track.setStyle({ color: colour, opacity: here ? 0.8 : 0.5 });
+      d.circle.setStyle({ color: colour, opacity: 0.8 });
+      const path = d.dot.getElement();
       path.classList.toggle('dimmed', !here);
       path.setAttribute('data-id', r.id);
     }
+    const text = r.id.replace(/^\//, '') + (here ? '' : ' (' + floorText(r) + ')');
+    const labelClass = 'responder-label' + (here ? '' : ' dimmed') +
+      (here && colour === '#c00000' ? ' alarm' : '');
+    if (d.labelText !== text + labelClass) {
+      d.labelText = text + labelClass;
+      d.label.setIcon(L.divIcon({ className: labelClass, html: escapeHtml(text),
+        iconSize: null, iconAnchor: [-12, 30] }));
+    }
     if (r.sigma_xy_m !== null && here) {
-      d.circle.setLatLng(at).setRadius(Math.max(r.sigma_xy_m, 0.05))
-        .setStyle({ color: colour, opacity: 0.8 });
+      d.circle.setLatLng(at).setRadius(Math.max(r.sigma_xy_m, 0.05));
       if (!d.group.hasLayer(d.circle)) { d.circle.addTo(d.group); }
     } else {
       d.circle.remove();
@@ -457,16 +471,16 @@
       const side = function (s) {
         return ll(tip[0] - 0.6 * Math.cos(h + s), tip[1] - 0.6 * Math.sin(h + s));
       };
-      d.arrow.setLatLngs([[at, ll(tip[0], tip[1])], [side(0.5), ll(tip[0], tip[1]), side(-0.5)]])
-        .setStyle({ color: colour, opacity: opacity });
+      d.arrow.setLatLngs([[at, ll(tip[0], tip[1])], [side(0.5), ll(tip[0], tip[1]), side(-0.5)]]);
     }
-    if (r.trackChanged || d.trackFloor !== selectedFloor) {
+    if (r.trackChanged || d.floorDrawn !== selectedFloor) {
       d.track.setLatLngs(trackSegments(r.track));
-      d.trackFloor = selectedFloor;
       r.trackChanged = false;
     }
-    d.track.setStyle({ color: colour, opacity: here ? 0.8 : 0.5 });
-    if (here) { d.group.eachLayer(function (layer) { layer.bringToFront(); }); }
+    if (here && d.floorDrawn !== selectedFloor) {
+      d.group.eachLayer(function (layer) { if (layer.bringToFront) { layer.bringToFront(); } });
+    }
+    d.floorDrawn = selectedFloor;
   }
 
   function renderMap() {
