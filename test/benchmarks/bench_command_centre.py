@@ -13,8 +13,10 @@
 # limitations under the License.
 
 """
-Benchmark of the command centre: N synthetic responders into one Incident, its web server and
-the page in headless chromium (a script, not a test).
+Benchmark of the command centre: synthetic responders, its model, web server and page.
+
+N responders feed one Incident; its web server serves the page to headless chromium (a
+script, not a test).
 
 Run from the repository root: ``python test/benchmarks/bench_command_centre.py [--minutes 2]
 [--responders 50]``. Each responder sends a pose at 10 Hz (``foot_odom``) and, once a second, a
