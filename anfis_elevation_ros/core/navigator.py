@@ -51,6 +51,7 @@ from .errors import InputError
 from .frames import dcm_to_quat, dcm_to_rpy, GRAVITY_MPS2, level_attitude_from_gravity, mat_mul
 from .frames import mat_vec, quat_multiply, quat_to_dcm, rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
+from .heading_aids import HeadingAider, HeadingAidParams
 from .jit import jit
 from .map_frame import MapAlignment, rotate_error_covariance
 from .strapdown import strapdown_step
@@ -81,6 +82,7 @@ class NavigatorParams:
     Attributes
     ----------
     zupt, ekf, gait : parameters of the detector, the filter and the gait segmentation.
+    heading : parameters of the heading aids (HDE, ZARU), off by default.
     gravity_mps2 : local gravity magnitude.
     rate_hz : nominal IMU rate; 0 estimates it from the first stamps.
     init_stance_s : stance needed before navigation starts.
@@ -96,6 +98,7 @@ class NavigatorParams:
     zupt: ZuptParams = field(default_factory=ZuptParams)
     ekf: EkfParams = field(default_factory=EkfParams)
     gait: GaitParams = field(default_factory=GaitParams)
+    heading: HeadingAidParams = field(default_factory=HeadingAidParams)
     gravity_mps2: float = GRAVITY_MPS2
     rate_hz: float = 0.0
     init_stance_s: float = 0.1
@@ -250,6 +253,9 @@ class FootNavigator:
         Put the track in a building's map frame (``core/map_frame.py``): positions and
         attitudes returned are map-frame ones; after the alignment strides the filter itself
         is rotated into the map frame.
+    dominant_directions_deg : sequence of float or None
+        Corridor directions for HDE, deg counter-clockwise from +x, in the frame of the track
+        (the map frame with ``map_alignment``); None learns them from the walk.
 
     Examples
     --------
@@ -262,9 +268,12 @@ class FootNavigator:
     """
 
     def __init__(self, params: NavigatorParams = None, start_pos_n=None,
-                 start_heading_rad: float = 0.0, map_alignment: MapAlignment = None):
+                 start_heading_rad: float = 0.0, map_alignment: MapAlignment = None,
+                 dominant_directions_deg=None):
         self.params = params or NavigatorParams()
         self._map = map_alignment
+        self._aider = HeadingAider(self.params.heading, None if dominant_directions_deg is None
+                                   else np.radians(dominant_directions_deg))
         self._status = NavigatorStatus()
         # Where navigation starts: the origin, or a resumed position and heading.
         self._start_pos_n = np.zeros(3) if start_pos_n is None else np.array(start_pos_n, float)
@@ -419,6 +428,8 @@ class FootNavigator:
             status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
             if self._map is not None and not self._map.fixed:
                 cycle = self._align_map(cycle)
+            else:
+                self._aid_heading()
         # The nominal state, not pos_n: the filter may have been rotated into the map frame.
         return self._map_point(TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
                                           self._nominal[Q_NB].copy(), stance)), cycle
@@ -449,6 +460,23 @@ class FootNavigator:
             return replace(cycle, pos_n=nominal[POS_N].copy())
         return replace(cycle, pos_n=self._map.to_map(cycle.pos_n))
 
+    def _aid_heading(self):
+        """Apply the heading aids that hold at this stance (``core/heading_aids.py``)."""
+        nominal = self._nominal
+        for dx, P in self._aider.at_stance(nominal[POS_N], self._detector.samples[:, 3:6],
+                                           nominal[GYR_BIAS_B], self._P):
+            self._apply_correction(dx, P)
+
+    def _apply_correction(self, dx, P):
+        """Take an EKF update's covariance and feed its error state into the nominal state."""
+        nominal = self._nominal
+        self._P[:, :] = P
+        (nominal[Q_NB], nominal[VEL_N], nominal[POS_N], nominal[ACC_BIAS_B],
+         nominal[GYR_BIAS_B]) = ekf.apply_correction(
+            nominal[Q_NB].copy(), nominal[VEL_N].copy(), nominal[POS_N].copy(),
+            nominal[ACC_BIAS_B].copy(), nominal[GYR_BIAS_B].copy(), dx)
+        self._C_nb[:, :] = quat_to_dcm(nominal[Q_NB])
+
     def correct_position(self, innovation_xy, sigma_m: float) -> float:
         """
         Apply a horizontal position measurement now (a stair entry, ``ekf.position_correction``).
@@ -469,13 +497,7 @@ class FootNavigator:
         if self._map is not None and not self._map.fixed:
             innovation = self._map.rotation()[:2, :2].T @ innovation
         dx, P, nis = ekf.position_correction(self._P, innovation, sigma_m)
-        nominal = self._nominal
-        self._P[:, :] = P
-        (nominal[Q_NB], nominal[VEL_N], nominal[POS_N], nominal[ACC_BIAS_B],
-         nominal[GYR_BIAS_B]) = ekf.apply_correction(
-            nominal[Q_NB].copy(), nominal[VEL_N].copy(), nominal[POS_N].copy(),
-            nominal[ACC_BIAS_B].copy(), nominal[GYR_BIAS_B].copy(), dx)
-        self._C_nb[:, :] = quat_to_dcm(nominal[Q_NB])
+        self._apply_correction(dx, P)
         return nis
 
     @property

@@ -209,6 +209,22 @@ _DOCS = {
                                      5.0, _READ_ONLY),
     'ekf.init_gyr_bias_sigma_rps': ('Initial gyroscope bias uncertainty, rad/s.', 1e-6, 1.0,
                                     _READ_ONLY),
+    # HeadingAidParams
+    'heading.hde_enabled': ('Heuristic drift elimination: at each stride along a dominant '
+                            'direction (building file, else learned from the first stride), a '
+                            'heading measurement towards it.', None, None, _READ_ONLY),
+    'heading.hde_tolerance_deg': ('A stride within this of a dominant direction is taken to be '
+                                  'along it, deg.', 0.5, 45.0, _READ_ONLY),
+    'heading.hde_sigma_deg': ('Standard deviation of the HDE heading measurement, deg.', 0.01,
+                              90.0, _READ_ONLY),
+    'heading.zaru_enabled': ('Zero angular rate update of the gyro bias at each still stance.',
+                             None, None, _READ_ONLY),
+    'heading.zaru_max_gyr_rps': ('A stance is still for ZARU when no |w| of the detector window '
+                                 'exceeds this, rad/s.', 1e-4, 1.0, _READ_ONLY),
+    'heading.zaru_sigma_rps': ('Standard deviation of the ZARU measurement, rad/s.', 1e-6, 1.0,
+                               _READ_ONLY),
+    'heading.min_stride_m': ('Shorter strides have no direction for HDE, m.', 0.05, 2.0,
+                             _READ_ONLY),
     # GaitParams
     'gait.min_swing_s': ('Shorter swings make no gait cycle, s.', 0.02, 10.0, _READ_ONLY),
     'gait.max_swing_s': ('Longer swings make an invalid gait cycle (bounds the swing buffer), '

@@ -145,8 +145,11 @@ def replay_recording(recording, pipeline, model, progress=None, building=None) -
     """
     aid = pipeline.building_aid
     gate = InputGate(pipeline.gate)
-    navigator = FootNavigator(pipeline.navigator,
-                              map_alignment=map_alignment_for(building, aid.align_strides))
+    map_alignment = map_alignment_for(building, aid.align_strides)
+    # HDE along the building's corridors once the track is in its frame, else learned.
+    directions = building.dominant_directions_deg if map_alignment is not None else ()
+    navigator = FootNavigator(pipeline.navigator, map_alignment=map_alignment,
+                              dominant_directions_deg=directions or None)
     tracker = ElevationTracker(model, pipeline.elevation)
     monitor = stair_monitor_for(building, aid.stair_fix_ratio)
     fixes = PositionFixQueue(aid.stair_fix_delay_s, aid.stair_fix_sigma_m)

@@ -18,17 +18,23 @@ Benchmark of the navigator on the gdin_hallway walks: strides detected and horiz
 Run from the repository root: ``python test/benchmarks/bench_gdin_hallway.py``. Per walk: gait
 cycles against ``numberOfStrides``, the final-position error as % of the path (truth polyline
 through the stride positions), and the mean error of the stride-end positions (only when every
-stride was detected, so that cycle i is stride i). The track's heading is aligned to the truth
-on the first ``ALIGN_STRIDES`` stride ends (least-squares rotation about the start): the IMU's
-initial heading is unknown, as in any foot-mounted INS benchmark.
+stride was detected, so that cycle i is stride i), for the plain filter and with each heading
+aid (``heading.zaru_enabled``, ``heading.hde_enabled``, both) side by side. The track's
+heading is aligned to the truth on the first ``ALIGN_STRIDES`` stride ends (least-squares
+rotation about the start): the IMU's initial heading is unknown, as in any foot-mounted INS
+benchmark.
 """
 
-from anfis_elevation_ros.core.navigator import FootNavigator
+from anfis_elevation_ros.core.heading_aids import HeadingAidParams
+from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.tools.datasets import dataset_files
 from anfis_elevation_ros.tools.gdin_hallway import load_gdin_walk
 import numpy as np
 
 ALIGN_STRIDES = 3
+AIDS = {'plain': HeadingAidParams(), 'zaru': HeadingAidParams(zaru_enabled=True),
+        'hde': HeadingAidParams(hde_enabled=True),
+        'both': HeadingAidParams(hde_enabled=True, zaru_enabled=True)}
 
 
 def aligned(est_xy, truth_xy):
@@ -40,10 +46,10 @@ def aligned(est_xy, truth_xy):
     return est_xy @ np.array([[c, s], [-s, c]])
 
 
-def walk_figures(walk):
+def walk_figures(walk, params):
     """Return (cycles, final error % of path, mean stride error m or NaN) of one walk."""
     rec = walk.recording
-    track, cycles = FootNavigator().run(rec.stamp_ns, rec.acc_b, rec.gyr_b)
+    track, cycles = FootNavigator(params).run(rec.stamp_ns, rec.acc_b, rec.gyr_b)
     est = np.vstack([c.pos_n[:2] for c in cycles]) - track[0].pos_n[:2]
     est = aligned(np.vstack([np.zeros(2), est]), walk.stride_pos_m)
     final = np.linalg.norm(est[-1] - walk.stride_pos_m[-1])
@@ -54,15 +60,22 @@ def walk_figures(walk):
 
 
 def main():
-    finals = []
-    print('walk  cycles/strides  path m  final % of path  mean stride error m')
+    finals = {name: [] for name in AIDS}
+    print('walk cycles/strides path_m | final % of path, mean stride error m: '
+          + ' | '.join(AIDS))
     for path in dataset_files('gdin_hallway'):
         walk = load_gdin_walk(path)
-        cycles, final_pct, mean_m = walk_figures(walk)
-        finals.append(final_pct)
-        print(f'{path.stem:22s} {cycles:4d}/{walk.n_strides:<4d} {walk.path_length_m:7.1f} '
-              f'{final_pct:8.1f} {mean_m:10.2f}')
-    print(f'median final error {np.median(finals):.1f} % of path, mean {np.mean(finals):.1f} %')
+        row = []
+        for name, aid in AIDS.items():
+            cycles, final_pct, mean_m = walk_figures(walk, NavigatorParams(heading=aid))
+            finals[name].append(final_pct)
+            row.append(f'{final_pct:5.1f} {mean_m:5.2f}')
+        print(f'{path.stem[-2:]} {cycles:4d}/{walk.n_strides:<4d} {walk.path_length_m:6.1f} | '
+              + ' | '.join(row))
+    for name, values in finals.items():
+        worse = sum(v > p + 0.05 for v, p in zip(values, finals['plain']))
+        print(f'{name:5s}: median final error {np.median(values):.1f} % of path, mean '
+              f'{np.mean(values):.1f} %, {worse} walks worse than plain')
 
 
 if __name__ == '__main__':
