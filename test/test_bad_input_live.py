@@ -357,29 +357,47 @@ def test_wrong_frame_is_refused(live, clean):
     assert_cycles_equal(run.cycles, cycles)
 
 
-def test_imu_clock_reset_after_a_restart_is_handled(live, clean, tmp_path):
+@pytest.mark.parametrize('gap_s, resumes, why', [
+    (None, False, 'before the saved state'),         # a second play, or a reset sensor clock
+    (60.0, False, 'limit resume_max_gap_s = 30 s'),  # taken up again much later
+    (2.0, True, 'continue the saved state after')])  # a restart
+def test_a_restart_resumes_only_when_the_sensor_stamps_continue(
+        live, clean, tmp_path, gap_s, resumes, why):
     """
-    A restarted node whose IMU stamps begin before its saved state (the sensor's clock was reset).
+    A restarted node resumes only when its first IMU stamp continues the saved state.
 
-    It resumes position and cycle count, does not guess the outage, and goes on navigating and
-    saving its state: stride periods from stamps that went back are not used.
+    The same samples played again begin before the saved state; shifted to begin 60 s after it
+    they begin beyond ``resume_max_gap_s``: both start fresh (cycle indices from 1, a new walk
+    identity, the refusal counted and said in the diagnostics). Shifted to begin 2 s after it
+    they continue it: the node resumes, its cycle indices and walk identity carry on, and it
+    goes on saving its state.
     """
     samples, cycles = clean
     overrides = {'persist_state': True, 'state_dir': str(tmp_path)}
     first = live(overrides=overrides).feed(clean_messages(samples))
+    first_walk = first.cycles[-1].walk_id
     first.close()
     saved = load_state(state_file(tmp_path, '/imu_node'), NavigationState)
     assert saved.cycles == len(cycles) and saved.stamp_ns == cycles[-1].stamp_ns
+    assert saved.walk_id == first_walk
 
-    run = live(overrides=overrides).feed(clean_messages(samples))
+    shift_ns = 0 if gap_s is None else saved.stamp_ns + int(gap_s * 1e9) - samples[0][0]
+    run = live(overrides=overrides).feed(clean_messages(
+        [(stamp + shift_ns, acc, gyr) for stamp, acc, gyr in samples]))
     navigator = run.listener.diagnostics[NAVIGATOR][2]
-    assert navigator['resumed'] == 'true' and navigator['outage_cycles'] == '0'
+    assert navigator['resumed'] == str(resumes).lower() and why in navigator['resume']
+    assert navigator['resume_refusals'] == ('0' if resumes else '1')
     assert run.count('internal_errors') == 0
-    assert len(run.cycles) == len(cycles)
-    assert [c.index for c in run.cycles] == list(range(len(cycles) + 1, 2 * len(cycles) + 1))
+    assert len(run.cycles) >= len(cycles)
+    first_index = len(cycles) + 1 if resumes else 1
+    assert [c.index for c in run.cycles] == list(range(first_index,
+                                                       first_index + len(run.cycles)))
+    assert {c.walk_id for c in run.cycles} == ({first_walk} if resumes else
+                                               {run.cycles[0].walk_id} - {first_walk})
     run.close()
     resaved = load_state(state_file(tmp_path, '/imu_node'), NavigationState)
-    assert resaved.cycles == 2 * len(cycles) and resaved.stamp_ns == cycles[-1].stamp_ns
+    assert resaved.cycles == run.cycles[-1].index and resaved.walk_id == run.cycles[-1].walk_id
+    assert resaved.stamp_ns == cycles[-1].stamp_ns + shift_ns
     assert 0.1 <= resaved.stride_period_s <= 3.0
 
 
@@ -387,7 +405,7 @@ def test_malformed_cycle_message_is_skipped(live, clean):
     """A gait_cycle message of another layout is counted and not classified."""
     samples, cycles = clean
     run = live(classifier=True)
-    msg = cycle_to_msg(cycles[0], 'odom', 1)
+    msg = cycle_to_msg(cycles[0], 'odom', 1, 1)
     msg.fields = msg.fields[:-1]
     run.classifier._on_cycle(msg)
     assert run.classifier_count('malformed') == 1

@@ -304,7 +304,7 @@ def cycle_message(stamp_ns, values, index):
     """Build a well-formed gait-cycle PointCloud2 (values: x, y, z, valid, five features)."""
     cycle = GaitCycle(stamp_ns=stamp_ns, start_stamp_ns=0, pos_n=np.array(values[:3]),
                       features=np.array(values[4:9]), valid=bool(values[3]))
-    return cycle_to_msg(cycle, 'odom', index)
+    return cycle_to_msg(cycle, 'odom', index, 1)
 
 
 PLAUSIBLE_CYCLE = st.tuples(*[st.floats(-5.0, 5.0)] * 3, st.booleans(),

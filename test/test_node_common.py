@@ -73,12 +73,13 @@ def test_cycle_message_round_trip_and_layout():
     cycle = GaitCycle(stamp_ns=1_700_000_001_000_000_001, start_stamp_ns=0,
                       pos_n=np.array([1.5, -2.25, 0.34]),
                       features=np.array([0.1, 0.02, 0.34, 0.4, 0.3]), valid=True)
-    msg = cycle_to_msg(cycle, 'odom', 17)
+    msg = cycle_to_msg(cycle, 'odom', 17, 2 ** 31 - 1)
     assert [f.name for f in msg.fields] == list(CYCLE_FIELDS)
-    assert [f.offset for f in msg.fields] == [8 * i for i in range(10)]
-    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 80
+    assert [f.offset for f in msg.fields] == [8 * i for i in range(11)]
+    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 88
     back = cycle_from_msg(msg)
     assert back.stamp_ns == cycle.stamp_ns and back.valid and back.index == 17
+    assert back.walk_id == 2 ** 31 - 1
     assert (back.x_m, back.y_m, back.z_m) == (1.5, -2.25, 0.34)
     assert np.array_equal(back.features, cycle.features)
 
@@ -87,7 +88,7 @@ def test_non_finite_cycle_is_sent_invalid():
     """A cycle with a NaN is marked invalid (never classified) and not dense."""
     cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
                       features=np.array([0.1, np.nan, 0.3, 0.4, 0.3]), valid=True)
-    msg = cycle_to_msg(cycle, 'odom', 1)
+    msg = cycle_to_msg(cycle, 'odom', 1, 1)
     assert not msg.is_dense and not cycle_from_msg(msg).valid
 
 
@@ -95,7 +96,7 @@ def test_cycle_message_with_another_layout_is_refused():
     """Fewer fields, another type or two points: InputError naming the expected fields."""
     cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
                       valid=True)
-    msg = cycle_to_msg(cycle, 'odom', 1)
+    msg = cycle_to_msg(cycle, 'odom', 1, 1)
     msg.fields[3].datatype = 7                              # FLOAT32
     with pytest.raises(InputError, match='expected layout'):
         cycle_from_msg(msg)
@@ -106,9 +107,20 @@ def test_cycle_message_with_a_bad_index_is_refused(index):
     """The index is a count from 1: anything else is a malformed message."""
     cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
                       valid=True)
-    msg = cycle_to_msg(cycle, 'odom', 1)
-    msg.data = bytes(msg.data)[:-8] + struct.pack('<d', index)
+    msg = cycle_to_msg(cycle, 'odom', 1, 1)
+    msg.data = bytes(msg.data)[:-16] + struct.pack('<d', index) + bytes(msg.data)[-8:]
     with pytest.raises(InputError, match='cycle_index'):
+        cycle_from_msg(msg)
+
+
+@pytest.mark.parametrize('walk_id', [0.0, -1.0, 7.5, float('inf'), 2.0 ** 31])
+def test_cycle_message_with_a_bad_walk_id_is_refused(walk_id):
+    """The walk identity is an integer in [1, 2^31 - 1]: anything else is malformed."""
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
+                      valid=True)
+    msg = cycle_to_msg(cycle, 'odom', 1, 1)
+    msg.data = bytes(msg.data)[:-8] + struct.pack('<d', walk_id)
+    with pytest.raises(InputError, match='walk_id'):
         cycle_from_msg(msg)
 
 
@@ -130,7 +142,7 @@ def test_descriptors_carry_the_table():
 def _elevation(index):
     return ElevationState(stamp_ns=1_700_000_000_000_000_000 + index, wall_time_s=1000.0,
                           source_id='/gait_cycle', height_m=0.17 * index, floor=0,
-                          cycle_index=index)
+                          cycle_index=index, walk_id=1)
 
 
 def test_state_writer_writes_the_latest_state_and_flushes_on_close(tmp_path):

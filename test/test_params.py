@@ -82,7 +82,8 @@ def test_names_the_brief_lists():
     # Only the persistence parameters (each node its own state file), the building and its
     # frame are on both nodes.
     assert set(imu) & set(classifier) == {'persist_state', 'state_dir', 'state_max_age_s',
-                                          'cycle_history', 'building_file', 'map_frame_id'}
+                                          'resume_max_gap_s', 'cycle_history', 'building_file',
+                                          'map_frame_id'}
 
 
 def test_both_nodes_read_one_building_file(tmp_path):

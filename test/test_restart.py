@@ -28,6 +28,9 @@ its own process, started as ``ros2 run`` would start it (``python -m <node modul
   the walk goes on: from the IMU node's cycle history (transient local) and its own state it
   publishes, for every cycle it publishes, the same height as offline replay, and the final
   floor is right.
+- Both nodes stopped and started again seconds later, and the same part of the walk played
+  again: the state files are fresh, but the sensor stamps do not continue them, so both start
+  fresh, say why, and give the heights of the first play.
 """
 
 import signal
@@ -241,3 +244,36 @@ def test_late_and_restarted_classifier_carries_on(walk, ros):
     assert all(abs(height - offline[stamp]) < 1e-9 for stamp, height in published.items()), \
         [(stamp, height, offline.get(stamp)) for stamp, height in published.items()
          if abs(height - offline.get(stamp, np.inf)) >= 1e-9]
+
+
+def test_a_second_play_of_the_same_walk_starts_fresh(walk, ros):
+    """
+    Both nodes stopped and started again, the same part of the walk played again.
+
+    Their state files are fresh (seconds old) and from the same source, but the sensor stamps
+    begin before the saved ones: both start fresh and say why, and the second play gives the
+    heights of the first, from 0, not from the height the first play ended at.
+    """
+    rec, player, listener = walk['recording'], ros['player'], ros['listener']
+    params = params_file(walk, 'second_play')
+    cut = flight_middle(walk['walk'], 1)
+    heights, known = [], frozenset()
+    for run in range(2):
+        imu = NodeProcess('imu_node', params, params.parent / f'imu{run}.log').start()
+        classifier = NodeProcess('classifier_node', params, params.parent / f'cls{run}.log')
+        ros['processes'] += [imu, classifier.start()]
+        known = wait_connected(player, listener, known)
+        listener.elevations.clear()
+        play(player, rec, 0, cut)
+        if heights:                                 # the second play reaches the first's end
+            assert wait_for(lambda: listener.elevations
+                            and listener.elevations[-1][0] == max(heights[0]), 10.0)
+        heights.append({stamp: height for stamp, _, _, height, _ in listener.elevations})
+        imu.stop()
+        classifier.stop()
+    assert 'starting fresh: the sensor stamps begin' in imu.log()
+    assert 'starting fresh: the gait cycles belong to another walk' in classifier.log()
+    first, second = heights
+    assert max(first.values()) >= 1.0 and len(second) >= 0.8 * len(first)
+    assert all(abs(height - first[stamp]) < 1e-9 for stamp, height in second.items()), \
+        [(stamp, height, first.get(stamp)) for stamp, height in second.items()]

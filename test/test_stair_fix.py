@@ -236,7 +236,7 @@ def test_restart_in_the_middle_of_a_correction_never_applies_it_twice(tmp_path):
                 saved = NavigationState(
                     stamp_ns=int(stamp_s * 1e9), wall_time_s=0.0, source_id='imu', x_m=0.0,
                     y_m=0.0, z_m=0.0, heading_rad=0.0, filter_ok=True, cycles=1,
-                    stride_period_s=1.0, map_frame=True,
+                    stride_period_s=1.0, walk_id=1, map_frame=True,
                     stair_fixes=queue.applied_before(int(round(stamp_s * 1e9))))
                 save_state(tmp_path / 'imu.json', saved)
         return navigator
@@ -263,7 +263,7 @@ def test_restart_in_the_middle_of_a_correction_never_applies_it_twice(tmp_path):
     assert len(navigator.updates) == 1 and queue.applied_before(int(10.6e9)) == []
     save_state(tmp_path / 'imu.json', NavigationState(
         stamp_ns=int(10.6e9), wall_time_s=0.0, source_id='imu', x_m=0.0, y_m=0.0, z_m=0.0,
-        heading_rad=0.0, filter_ok=True, cycles=1, stride_period_s=1.0,
+        heading_rad=0.0, filter_ok=True, cycles=1, stride_period_s=1.0, walk_id=1,
         stair_fixes=queue.applied_before(int(10.6e9))))
     after, queue = resume_and_receive_history()
     assert len(after.updates) == 1
@@ -271,7 +271,7 @@ def test_restart_in_the_middle_of_a_correction_never_applies_it_twice(tmp_path):
     (tmp_path / 'imu.json').unlink()
     save_state(tmp_path / 'imu.json', NavigationState(
         stamp_ns=int(9.6e9), wall_time_s=0.0, source_id='imu', x_m=0.0, y_m=0.0, z_m=0.0,
-        heading_rad=0.0, filter_ok=True, cycles=1, stride_period_s=1.0))
+        heading_rad=0.0, filter_ok=True, cycles=1, stride_period_s=1.0, walk_id=1))
     after, queue = resume_and_receive_history()
     assert len(after.updates) == 1 and queue.late == 0
 
@@ -288,7 +288,7 @@ def test_a_fresh_track_refuses_the_requests_of_an_earlier_walk():
 def test_state_stair_fixes_are_checked():
     fields = {'stamp_ns': 1, 'wall_time_s': 0.0, 'source_id': 'imu', 'x_m': 0.0, 'y_m': 0.0,
               'z_m': 0.0, 'heading_rad': 0.0, 'filter_ok': True, 'cycles': 1,
-              'stride_period_s': 1.0}
+              'stride_period_s': 1.0, 'walk_id': 1}
     assert NavigationState(**fields).stair_fixes == []
     with pytest.raises(InputError, match='stair_fixes'):
         NavigationState(**fields, stair_fixes=[1.5])

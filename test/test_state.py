@@ -20,16 +20,17 @@ import stat
 
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.state import (
-    ElevationState, load_state, NavigationState, resumable_state, save_state, state_file,
-    STATE_FORMAT, STATE_VERSION)
+    ElevationState, is_walk_id, load_state, MAX_WALK_ID, NavigationState, new_walk_id,
+    resumable_state, save_state, state_file, STATE_FORMAT, STATE_VERSION, walk_continues)
 import pytest
 
 STATE = NavigationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
                         source_id='/imu/data:imu_link', x_m=1.5, y_m=-2.0, z_m=3.3,
                         heading_rad=0.7, filter_ok=True, cycles=42,
-                        stride_period_s=1.1)
+                        stride_period_s=1.1, walk_id=12345)
 ELEVATION = ElevationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
-                           source_id='/gait_cycle', height_m=3.4, floor=1, cycle_index=42)
+                           source_id='/gait_cycle', height_m=3.4, floor=1, cycle_index=42,
+                           walk_id=12345)
 
 
 @pytest.mark.parametrize('state', [STATE, ELEVATION])
@@ -76,6 +77,8 @@ def _document(**changes):
                                                  'kind': 'NavigationState', 'cycles': 1}),
                                      _document(x_m='NaN'), _document(cycles=1.5),
                                      _document(filter_ok=1), _document(source_id=7),
+                                     _document(walk_id=0), _document(walk_id=2 ** 31),
+                                     _document(walk_id=True), _document(walk_id=3.0),
                                      _document(extra=1)])
 def test_corrupt_files_raise_input_error(tmp_path, content):
     path = tmp_path / 'state.json'
@@ -109,3 +112,22 @@ def test_state_file_names_follow_the_node_and_ros_home(monkeypatch):
     assert str(state_file('', '/imu_node')) == '/tmp/rh/anfis_elevation_ros/imu_node.state.json'
     assert str(state_file('/var/x', '/left_boot/imu_node')) == \
         '/var/x/left_boot.imu_node.state.json'
+
+
+T0 = 1_700_000_000_000_000_000
+
+
+@pytest.mark.parametrize('gap_s, continues, words', [
+    (1.5, True, 'continue the saved state after 1.5 s'), (30.0, True, 'after 30.0 s'),
+    (0.0, False, 'before'), (-40.0, False, '40.0 s before'),
+    (30.5, False, 'resume_max_gap_s = 30 s'), (3600.0, False, '3600.0 s after')])
+def test_resume_only_when_the_sensor_stamps_continue(gap_s, continues, words):
+    """Not earlier (a replay, a reset clock), not far later (another walk): a restart only."""
+    ok, why = walk_continues(T0, T0 + int(gap_s * 1e9), 30.0)
+    assert ok is continues and words in why
+
+
+def test_walk_ids_are_random_and_in_range():
+    ids = [new_walk_id() for _ in range(200)]
+    assert len(set(ids)) > 190 and all(is_walk_id(i) for i in ids)
+    assert not any(is_walk_id(v) for v in (0, MAX_WALK_ID + 1, True, 5.0, '5'))

@@ -276,6 +276,9 @@ _PERSISTENCE = (
               '$ROS_HOME/anfis_elevation_ros (~/.ros/anfis_elevation_ros).'),
     ParamSpec('state_max_age_s', 300.0, 'A saved state older than this is not resumed, s (0: '
               'never resume).', 0.0, 86400.0),
+    ParamSpec('resume_max_gap_s', 30.0, 'A saved state is resumed only when the first sensor '
+              'stamp after the start follows its own by at most this, s (a restart, not '
+              'another walk, a replay or a reset sensor clock).', 0.0, 3600.0),
     ParamSpec('cycle_history', 3600, 'Gait cycles kept for a late or restarted classifier '
               '(transient local), messages; about an hour of walking.', 1, 100000),
 )

@@ -18,14 +18,23 @@ Persisted tracking state: what a restarted node needs to carry on without a wron
 Each node owns one state file (two processes never write the same file):
 
 - the IMU node writes a ``NavigationState`` (position, heading, filter status, IMU identity,
-  cycle count, the frame of the position and the stair-entry corrections already in it) and
-  resumes the INS from it;
+  cycle count, walk identity, the frame of the position and the stair-entry corrections
+  already in it) and resumes the INS from it;
 - the classifier node writes an ``ElevationState`` (quantised height, floor, the last cycle it
-  counted) and resumes the height from it.
+  counted, the walk it belongs to) and resumes the height from it.
 
 A state is data (JSON), never code: a small versioned document written atomically (temporary
 file in the same directory, fsync, rename) with permissions 0600 at every gait cycle, and read
-back on start when it is fresh enough and comes from the same source.
+back on start when it is fresh enough and comes from the same source (:func:`resumable_state`).
+
+Resume only what continues (our policy; the method does not cover restarts). A fresh state
+from the same source is only a candidate: the sensor's own stamps decide. The IMU node resumes
+when the first stamp after its start follows the saved one by at most ``resume_max_gap_s``
+(:func:`walk_continues`): a second play of the same bag, a sensor whose clock was reset, or a
+walk taken up again much later starts fresh. A walk identity (``walk_id``,
+:func:`new_walk_id`) is drawn when the IMU node starts a walk fresh, carried on when it
+resumes, and sent with every gait cycle, so that the classifier resumes only the walk it saved,
+never a new walk whose stamps happen to repeat the old ones.
 """
 
 from dataclasses import asdict, dataclass, field, fields
@@ -33,15 +42,27 @@ import json
 import math
 import os
 from pathlib import Path
+import secrets
 import tempfile
 import time
 
 from .errors import InputError
 
 STATE_FORMAT = 'anfis_elevation_ros.state'
-STATE_VERSION = 2
+STATE_VERSION = 3
 MAX_STATE_BYTES = 64 * 1024  # a state file is a few hundred bytes; refuse anything large
 MAX_STAIR_FIXES = 1000       # identities of applied corrections kept (core/position_fix.py: 256)
+MAX_WALK_ID = 2 ** 31 - 1    # sent as a FLOAT64 field of the gait-cycle message: exact
+
+
+def new_walk_id() -> int:
+    """Draw the identity of a new walk: a random integer in [1, MAX_WALK_ID]."""
+    return 1 + secrets.randbelow(MAX_WALK_ID)
+
+
+def is_walk_id(value) -> bool:
+    """Whether value is a walk identity: an int in [1, MAX_WALK_ID] (not a bool)."""
+    return isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= MAX_WALK_ID
 
 
 def _check_fields(state):
@@ -58,6 +79,12 @@ def _check_fields(state):
         if not ok:
             raise InputError(f'state {f.name} must be a{" finite" if f.type is float else ""} '
                              f'{f.type.__name__}, got {value!r}')
+
+
+def _check_walk_id(walk_id):
+    if not is_walk_id(walk_id):
+        raise InputError(f'state walk_id = {walk_id!r} is not a walk identity (an integer in '
+                         f'[1, {MAX_WALK_ID}])')
 
 
 @dataclass(frozen=True)
@@ -83,6 +110,8 @@ class NavigationState:
         Gait cycles published so far (the cycle index carries on from it).
     stride_period_s : float
         Recent median time between gait cycles, s (estimates the cycles lost in an outage).
+    walk_id : int
+        Identity of the walk (:func:`new_walk_id`), carried on by a resume.
     map_frame : bool
         True when the position is in a building's map frame (``core/map_frame.py``), False in
         the track's own start frame; a state is resumed only into the same kind of frame.
@@ -102,11 +131,13 @@ class NavigationState:
     filter_ok: bool
     cycles: int
     stride_period_s: float
+    walk_id: int
     map_frame: bool = False
     stair_fixes: list = field(default_factory=list)
 
     def __post_init__(self):
         _check_fields(self)
+        _check_walk_id(self.walk_id)
         if not 0.1 <= self.stride_period_s <= 10.0:
             raise InputError(f'state stride_period_s = {self.stride_period_s} is outside '
                              '[0.1, 10] s')
@@ -135,6 +166,8 @@ class ElevationState:
         Floor index.
     cycle_index : int
         Index of the last gait cycle counted (the IMU node numbers them from 1).
+    walk_id : int
+        The walk the counted cycles belong to (sent by the IMU node with every cycle).
 
     """
 
@@ -144,9 +177,11 @@ class ElevationState:
     height_m: float
     floor: int
     cycle_index: int
+    walk_id: int
 
     def __post_init__(self):
         _check_fields(self)
+        _check_walk_id(self.walk_id)
 
 
 _KINDS = {cls.__name__: cls for cls in (NavigationState, ElevationState)}
@@ -261,6 +296,38 @@ def resumable_state(path, kind, source_id: str, max_age_s: float, now_s: float =
     if not 0.0 <= age_s <= max_age_s:
         return None, f'starting fresh: saved state is {age_s:.0f} s old (limit {max_age_s:.0f} s)'
     return state, f'resuming from {path} (saved {age_s:.1f} s ago)'
+
+
+def walk_continues(saved_stamp_ns: int, first_stamp_ns: int, max_gap_s: float) -> tuple:
+    """
+    Whether the first sensor stamp after a start continues a saved walk, with the reason.
+
+    continues  <=>  0 < t_first - t_saved <= max_gap
+
+    Parameters
+    ----------
+    saved_stamp_ns : int
+        Stamp of the saved state (its last gait cycle), ns.
+    first_stamp_ns : int
+        First stamp received after the start, ns.
+    max_gap_s : float
+        Longest outage resumed (``resume_max_gap_s``), s.
+
+    Returns
+    -------
+    (bool, str)
+        Whether to resume, and a sentence for the log.
+
+    """
+    gap_ns = int(first_stamp_ns) - int(saved_stamp_ns)
+    gap_s = gap_ns * 1e-9
+    if gap_ns <= 0:
+        return False, (f'the sensor stamps begin {-gap_s:.1f} s before the saved state (another '
+                       'walk, a replay, or a sensor clock that was reset)')
+    if gap_ns > round(max_gap_s * 1e9):
+        return False, (f'the sensor stamps begin {gap_s:.1f} s after the saved state (limit '
+                       f'resume_max_gap_s = {max_gap_s:g} s)')
+    return True, f'the sensor stamps continue the saved state after {gap_s:.1f} s'
 
 
 def default_state_dir() -> Path:

@@ -53,11 +53,19 @@ Parameters: ``elevation.*`` (step height, mode threshold, storey height and star
 change live; the height is kept), ``model_path``, ``map_frame_id``, persistence; see
 ``core/params.py``.
 
-Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``): after every gait cycle
-the node writes an ``ElevationState`` (quantised height, floor, stamp and index of the last
-cycle counted, source = the resolved gait_cycle topic) atomically with permissions 0600. On
-start a fresh state from the same topic is resumed: the height carries on, and cycles up to
-the saved index and stamp are not counted twice. The log says whether it resumed or started fresh.
+Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``, ``resume_max_gap_s``):
+after every gait cycle the node writes an ``ElevationState`` (quantised height, floor, stamp and
+index of the last cycle counted, the walk identity; source = the resolved gait_cycle topic)
+atomically with permissions 0600. On start a fresh state from the same topic is a candidate:
+its floor is published with ``floor_certain`` false, and the first gait cycle decides. The
+state is resumed when that cycle belongs to the saved walk (``walk_id``: the IMU node resumed
+it too, or never stopped) and either is one already counted (the IMU node's history) or
+follows the saved stamp by at most ``resume_max_gap_s`` (``core/state.py``,
+``walk_continues``): the height carries on, and cycles up to the saved index and stamp are not
+counted twice. Otherwise (a second play of a bag, an IMU node that started a new walk) the node
+starts fresh. The log and the diagnostics (``resume``: the decision and why;
+``resume_refusals``: saved states not resumed) say which. A new walk while the node runs (the
+IMU node restarted and could not resume) carries the height on: the wearer did not move.
 The stair-entry monitor is not saved: a restarted node measures the distance walked for eq. (18)
 from its restart (a stricter threshold for the first entry), and a request it repeats is
 refused by the IMU node as a duplicate.
@@ -86,7 +94,7 @@ from ..core.height import ElevationTracker
 from ..core.params import building_aid_params_from_dict, CLASSIFIER_NODE
 from ..core.params import elevation_params_from_dict, load_model, model_file
 from ..core.stair_database import stair_monitor_for
-from ..core.state import ElevationState, resumable_state, state_file
+from ..core.state import ElevationState, resumable_state, state_file, walk_continues
 
 LOG_PERIOD_S = 5.0
 DIAGNOSTICS_PERIOD_S = 1.0
@@ -124,20 +132,26 @@ class ClassifierNode(PersistsState, Node):
             state, reason = resumable_state(self._state_path, ElevationState, self._source_id,
                                             values['state_max_age_s'])
         elevation = elevation_params_from_dict(values)
-        self._tracker = ElevationTracker(self._model, elevation,
-                                         height_m=None if state is None else state.height_m)
+        self._tracker = ElevationTracker(self._model, elevation)
+        self._resume_max_gap_s = values['resume_max_gap_s']
+        self._candidate = state          # resumed or not at the first gait cycle
+        self._walk_id = None             # the walk of the cycles counted
+        self._resume_refusals = int(state is None and self._state_path.exists())
+        self._resume_decision = reason if state is None else \
+            'saved state found; the first gait cycle decides'
         self.get_logger().info(
             f"ANFIS model loaded from {model_file(values['model_path'])}; sigma_th "
             f'{self._tracker.mode_threshold:g} ('
             f"{'the model' if elevation.mode_threshold < 0.0 else 'elevation.mode_threshold'})")
-        self._resumed = state is not None
-        self._last_stamp_ns = -1 if state is None else state.stamp_ns
-        self._last_index = 0 if state is None else state.cycle_index
+        self._resumed = False
+        self._last_stamp_ns = -1
+        self._last_index = 0
         self._already_counted = 0
         self._missed = 0
         self.get_logger().info(reason if state is None else
-                               f'{reason}: height {state.height_m:.2f} m, floor '
-                               f'{self._tracker.floor}, last cycle {state.cycle_index}')
+                               f'{reason}: height {state.height_m:.2f} m, floor {state.floor}, '
+                               f'last cycle {state.cycle_index}; resumed if the first gait '
+                               'cycle continues it')
         self._live_parameters = LiveParameters(
             self, CLASSIFIER_NODE, values, elevation_params_from_dict, self._apply_parameters)
         self._map_frame_id = values['map_frame_id']
@@ -164,8 +178,11 @@ class ClassifierNode(PersistsState, Node):
         self.create_subscription(PointCloud2, 'gait_cycle', self._on_cycle,
                                  cycle_history_qos(values['cycle_history']))
         self.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
-        self._publish_floor(self._floor)
-        self.get_logger().info(f'{"resumed" if self._resumed else "start"} floor {self._floor}')
+        if state is None:
+            self._publish_floor(self._floor)
+            self.get_logger().info(f'start floor {self._floor}')
+        else:
+            self._publish_floor(state.floor, certain=False)
 
     def _apply_parameters(self, values, changed):
         self._tracker.set_params(elevation_params_from_dict(values))
@@ -188,6 +205,14 @@ class ClassifierNode(PersistsState, Node):
             self.get_logger().warning(f'gait_cycle message skipped: {err}',
                                       throttle_duration_sec=LOG_PERIOD_S)
             return
+        if self._walk_id is None:
+            self._decide_resume(cycle)
+        elif cycle.walk_id != self._walk_id:
+            self._walk_id = cycle.walk_id
+            self._last_index, self._last_stamp_ns = 0, -1
+            self.get_logger().warning('the IMU node started a new walk (it could not resume its '
+                                      f'own): carrying on from height '
+                                      f'{self._tracker.height_m:.2f} m')
         if cycle.index <= self._last_index and cycle.stamp_ns <= self._last_stamp_ns:
             # History sent to a restarted node. (A resumed IMU node carries its index on, so a
             # sensor clock that restarted does not make new cycles look old.)
@@ -254,6 +279,35 @@ class ClassifierNode(PersistsState, Node):
                     f'{request.floor}, {"up" if request.direction > 0 else "down"}), {where}; '
                     'correction requested')
 
+    def _decide_resume(self, cycle):
+        """Resume the saved state if this first cycle continues its walk, else start fresh."""
+        state, self._candidate = self._candidate, None
+        self._walk_id = cycle.walk_id
+        if state is None:
+            return
+        if state.walk_id != cycle.walk_id:
+            continues, why = False, ('the gait cycles belong to another walk (the IMU node '
+                                     'started it fresh)')
+        elif cycle.index <= state.cycle_index and cycle.stamp_ns <= state.stamp_ns:
+            continues, why = True, "the IMU node still holds the saved walk's cycles"
+        else:
+            continues, why = walk_continues(state.stamp_ns, cycle.stamp_ns,
+                                            self._resume_max_gap_s)
+        if not continues:
+            self._resume_refusals += 1
+            self._resume_decision = f'starting fresh: {why}'
+            self.get_logger().warning(self._resume_decision)
+            self.get_logger().info(f'start floor {self._floor}')
+            self._publish_floor(self._floor)
+            return
+        self._tracker.reset(state.height_m)
+        self._last_stamp_ns, self._last_index = state.stamp_ns, state.cycle_index
+        self._resumed = True
+        self._floor = self._tracker.floor
+        self._resume_decision = f'resuming: {why}'
+        self.get_logger().info(f'{self._resume_decision}; resumed floor {self._floor}')
+        self._publish_floor(self._floor)
+
     def _note_cycle_index(self, index: int):
         if index > self._last_index + 1:
             lost = index - self._last_index - 1
@@ -270,7 +324,7 @@ class ClassifierNode(PersistsState, Node):
         self._state_writer.submit(ElevationState(
             stamp_ns=self._last_stamp_ns, wall_time_s=time.time(),
             source_id=self._source_id, height_m=self._tracker.height_m,
-            floor=self._tracker.floor, cycle_index=self._last_index))
+            floor=self._tracker.floor, cycle_index=self._last_index, walk_id=self._walk_id))
 
     def _publish_floor_if_changed(self):
         floor = self._tracker.floor
@@ -279,9 +333,9 @@ class ClassifierNode(PersistsState, Node):
             self._floor = floor
             self._publish_floor(floor)
 
-    def _publish_floor(self, floor: int):
+    def _publish_floor(self, floor: int, certain: bool = True):
         self._floor_pub.publish(Int32(data=int(floor)))
-        self._floor_certain_pub.publish(Bool(data=True))
+        self._floor_certain_pub.publish(Bool(data=certain))
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""
@@ -305,6 +359,7 @@ class ClassifierNode(PersistsState, Node):
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
                   'last_mode': self._last_mode, 'resumed': self._resumed,
+                  'resume': self._resume_decision, 'resume_refusals': self._resume_refusals,
                   'state_write_errors': self._state_write_errors(),
                   'internal_errors': self._internal_errors}
         if self._stair_monitor is not None:

@@ -33,10 +33,12 @@ the cycle, in the odometry frame; its fields, all FLOAT64 (``CYCLE_FIELDS``):
   56   ``max_abs_height_m``  feature eq. (11), m
   64   ``max_pitch_rad``     feature eq. (12), rad
   72   ``cycle_index``       index of the cycle, 1, 2, ... (continues after a resumed restart)
+  80   ``walk_id``           identity of the walk, 1 .. 2^31 - 1 (kept by a resumed restart,
+                            new when the IMU node starts fresh: ``core/state.py``)
 =====  ====================  ==============================================================
 
 ``header.stamp`` is the stamp of the IMU sample that closed the cycle; ``header.frame_id`` the
-odometry frame; height = width = 1, point_step = row_step = 80, little endian, ``is_dense``
+odometry frame; height = width = 1, point_step = row_step = 88, little endian, ``is_dense``
 false when a value is not finite.
 """
 
@@ -50,8 +52,9 @@ from sensor_msgs.msg import PointCloud2, PointField
 from .stamps import ns_to_stamp, stamp_to_ns
 from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES
+from ..core.state import MAX_WALK_ID
 
-CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + FEATURE_NAMES + ('cycle_index',)
+CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + FEATURE_NAMES + ('cycle_index', 'walk_id')
 _CYCLE_STRUCT = struct.Struct('<' + 'd' * len(CYCLE_FIELDS))
 
 
@@ -72,6 +75,8 @@ class CycleMessage:
         In ``FEATURE_NAMES`` order.
     index : int
         Index of the cycle (1, 2, ...).
+    walk_id : int
+        Identity of the walk the cycle belongs to (``core/state.py``, ``new_walk_id``).
 
     """
 
@@ -82,21 +87,23 @@ class CycleMessage:
     valid: bool
     features: np.ndarray
     index: int
+    walk_id: int
 
 
 _CYCLE_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(CYCLE_FIELDS))
 
 
-def cycle_to_msg(cycle, frame_id: str, index: int) -> PointCloud2:
+def cycle_to_msg(cycle, frame_id: str, index: int, walk_id: int) -> PointCloud2:
     """
-    PointCloud2 of one GaitCycle with its index (layout in the module docstring).
+    PointCloud2 of one GaitCycle with its index and walk (layout in the module docstring).
 
     A cycle with a non-finite value is sent as invalid (valid = 0), never classified.
     """
     position = [float(v) for v in cycle.pos_n]
     features = [float(v) for v in cycle.features]
     finite = all(math.isfinite(v) for v in position + features)
-    values = (*position, 1.0 if cycle.valid and finite else 0.0, *features, float(index))
+    values = (*position, 1.0 if cycle.valid and finite else 0.0, *features, float(index),
+              float(walk_id))
     msg = PointCloud2()
     msg.header.stamp = ns_to_stamp(cycle.stamp_ns)
     msg.header.frame_id = frame_id
@@ -129,9 +136,12 @@ def cycle_from_msg(msg) -> CycleMessage:
                          f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
                          f'{len(msg.data)} bytes')
     values = _CYCLE_STRUCT.unpack(bytes(msg.data))
-    index = values[-1]
+    index, walk_id = values[-2:]
     if not (math.isfinite(index) and index == int(index) and 1 <= index < 2 ** 53):
         raise InputError(f'gait_cycle message has cycle_index {index!r}, not a count')
+    if not (math.isfinite(walk_id) and walk_id == int(walk_id) and 1 <= walk_id <= MAX_WALK_ID):
+        raise InputError(f'gait_cycle message has walk_id {walk_id!r}, not a walk identity')
     return CycleMessage(stamp_ns=stamp_to_ns(msg.header.stamp), x_m=values[0], y_m=values[1],
                         z_m=values[2], valid=values[3] == 1.0,
-                        features=np.array(values[4:-1], dtype=float), index=int(index))
+                        features=np.array(values[4:-2], dtype=float), index=int(index),
+                        walk_id=int(walk_id))

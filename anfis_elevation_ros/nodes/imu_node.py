@@ -65,16 +65,20 @@ Subscribes too, with a building that has ``stairs`` and a ``start``:
 Parameters: every navigator and input-gate parameter of ``core/params.py`` (read once at start;
 the ``gate.*`` ones may change live) and the node-level ones listed there.
 
-Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``): after every gait cycle
-the node writes a ``NavigationState`` (position, heading, filter status, IMU identity = Imu
-topic and frame_id, cycle count) atomically with permissions 0600 to
-``<state_dir>/<node name>.state.json``. At the first accepted IMU message it decides: a state
-that is fresh, from the same IMU and written while the filter was healthy is resumed (the INS
-starts at the saved position and heading at its first stance, cycle indices carry on);
-otherwise it starts fresh. The log says which, and why. The motion while the node was down is
-unknown: at its first stance the resumed node publishes one invalid cycle per stride period
-(recent median) that passed since the saved cycle, at most ``MAX_OUTAGE_CYCLES``, so that a
-restart in the middle of a stair flight is bridged like any gap (``core/height.py``).
+Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``, ``resume_max_gap_s``):
+after every gait cycle the node writes a ``NavigationState`` (position, heading, filter status,
+IMU identity = Imu topic and frame_id, cycle count, walk identity) atomically with permissions
+0600 to ``<state_dir>/<node name>.state.json``. At the first accepted IMU message it decides: a
+state that is fresh, from the same IMU, written while the filter was healthy, and continued by
+the sensor's own stamps (the first stamp after the saved one by at most ``resume_max_gap_s``:
+``core/state.py``, ``walk_continues``) is resumed (the INS starts at the saved position and
+heading at its first stance, cycle indices and the walk identity carry on); otherwise it
+starts fresh, with a new walk identity. The log and the diagnostics (``resume``: the decision
+and why; ``resume_refusals``: saved states not resumed) say which. The motion while the node
+was down is unknown: at its first stance the resumed node publishes one invalid cycle per
+stride period (recent median) that passed since the saved cycle, at most
+``MAX_OUTAGE_CYCLES``, so that a restart in the middle of a stair flight is bridged like any
+gap (``core/height.py``).
 The state also says whether the position is in the building's map frame (a state is resumed
 only into the same kind of frame) and which stair-entry corrections it already contains: those
 are never applied again, and a request the restarted node gets again from the topic's history
@@ -112,7 +116,8 @@ from ..core.navigator import compile_navigator, FootNavigator
 from ..core.params import building_aid_params_from_dict, gate_params_from_dict, IMU_NODE
 from ..core.params import navigator_params_from_dict
 from ..core.position_fix import PositionFixQueue
-from ..core.state import NavigationState, resumable_state, state_file
+from ..core.state import NavigationState, new_walk_id, resumable_state, state_file
+from ..core.state import walk_continues
 
 REJECT_LOG_PERIOD_S = 5.0
 LOSS_WARN_FRACTION = 0.01   # more lost samples than this (per diagnostics period) is a warning
@@ -171,6 +176,10 @@ class ImuNode(PersistsState, Node):
         self._state_path = state_file(values['state_dir'], self.get_fully_qualified_name())
         self._start_state_writer(self._state_path, self._persist)
         self._state_max_age_s = values['state_max_age_s']
+        self._resume_max_gap_s = values['resume_max_gap_s']
+        self._walk_id = new_walk_id()
+        self._resume_decision = 'waiting for the first IMU message'
+        self._resume_refusals = 0
         self._source_id = None        # set by the first accepted IMU message
         self._resumed = False
         self._cycle_index = 0
@@ -282,7 +291,7 @@ class ImuNode(PersistsState, Node):
                                       throttle_duration_sec=REJECT_LOG_PERIOD_S)
             return
         if self._source_id is None:
-            self._resume_or_start_fresh(frame_id)
+            self._resume_or_start_fresh(frame_id, stamp_ns)
             if not self._resumed:
                 self._fixes.refuse_before(stamp_ns)   # requests of an earlier walk
         was_initialised = self._navigator.initialised
@@ -317,7 +326,8 @@ class ImuNode(PersistsState, Node):
 
     def _publish_cycle(self, cycle):
         self._cycle_index += 1
-        self._cycle_pub.publish(cycle_to_msg(cycle, self._track_frame_id, self._cycle_index))
+        self._cycle_pub.publish(cycle_to_msg(cycle, self._track_frame_id, self._cycle_index,
+                                             self._walk_id))
         if self._last_cycle_stamp_ns is not None:
             period_s = (cycle.stamp_ns - self._last_cycle_stamp_ns) * 1e-9
             if MIN_STRIDE_PERIOD_S <= period_s <= MAX_STRIDE_PERIOD_S:
@@ -330,12 +340,7 @@ class ImuNode(PersistsState, Node):
     def _publish_outage(self, point):
         """Publish the cycles lost while the node was down as invalid ones (see above)."""
         state, self._resumed_from = self._resumed_from, None
-        outage_s = (point.stamp_ns - state.stamp_ns) * 1e-9
-        if outage_s <= 0.0:
-            self.get_logger().warning(
-                'the IMU stamps are earlier than the saved cycle (its clock was reset?): the '
-                'length of the outage and the climb during it are unknown and not counted')
-            return
+        outage_s = (point.stamp_ns - state.stamp_ns) * 1e-9     # > 0: walk_continues
         lost = round(outage_s / state.stride_period_s)
         if lost > MAX_OUTAGE_CYCLES:
             self.get_logger().warning(
@@ -352,10 +357,11 @@ class ImuNode(PersistsState, Node):
 
     # -- persisted state -----------------------------------------------------------------------
 
-    def _resume_or_start_fresh(self, frame_id: str):
+    def _resume_or_start_fresh(self, frame_id: str, stamp_ns: int):
         self._source_id = f'{self._imu_topic}:{frame_id}'
         if not self._persist:
-            self.get_logger().info('starting fresh (persist_state is false)')
+            self._resume_decision = 'starting fresh (persist_state is false)'
+            self.get_logger().info(self._resume_decision)
             return
         state, reason = resumable_state(self._state_path, NavigationState, self._source_id,
                                         self._state_max_age_s)
@@ -366,9 +372,17 @@ class ImuNode(PersistsState, Node):
                       for in_map in (state.map_frame, self._in_map_frame)]
             state, reason = None, (f'starting fresh: the saved position is in the {frames[0]} '
                                    f'frame, the track now in the {frames[1]} frame')
+        if state is not None:
+            continues, why = walk_continues(state.stamp_ns, stamp_ns, self._resume_max_gap_s)
+            state, reason = (state, f'{reason}; {why}') if continues else \
+                (None, f'starting fresh: {why}')
+        self._resume_decision = reason
         if state is None:
+            if self._state_path.exists():
+                self._resume_refusals += 1
             self.get_logger().info(reason)
             return
+        self._walk_id = state.walk_id
         self._navigator = FootNavigator(self._navigator_params,
                                         start_pos_n=(state.x_m, state.y_m, state.z_m),
                                         start_heading_rad=state.heading_rad)
@@ -393,8 +407,8 @@ class ImuNode(PersistsState, Node):
             z_m=float(pos_n[2]) if filter_ok else 0.0,
             heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
             filter_ok=filter_ok, cycles=self._cycle_index,
-            stride_period_s=self._stride_period_s(), map_frame=self._in_map_frame,
-            stair_fixes=self._fixes.applied_before(cycle.stamp_ns)))
+            stride_period_s=self._stride_period_s(), walk_id=self._walk_id,
+            map_frame=self._in_map_frame, stair_fixes=self._fixes.applied_before(cycle.stamp_ns)))
 
     # -- outputs -------------------------------------------------------------------------------
 
@@ -484,7 +498,8 @@ class ImuNode(PersistsState, Node):
             'samples': status.samples, 'cycles': status.cycles,
             'invalid_cycles': status.invalid_cycles, 'gaps': status.gaps,
             'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m,
-            'resumed': self._resumed, 'outage_cycles': self._outage_cycles,
+            'resumed': self._resumed, 'resume': self._resume_decision,
+            'resume_refusals': self._resume_refusals, 'outage_cycles': self._outage_cycles,
             'state_file': str(self._state_path) if self._persist else '',
             'state_write_errors': self._state_write_errors(), 'frame_id': self._track_frame_id}
         if self._take_fixes:

@@ -68,7 +68,7 @@ def main(argv=None):
         stamp_ns = index * stride_ns
         cycle = GaitCycle(stamp_ns, stamp_ns - stride_ns // 2, np.array([float(index), 0.0, 0.0]),
                           np.full(N_FEATURES, 0.1), True)
-        publisher.publish(cycle_to_msg(cycle, 'odom', index))
+        publisher.publish(cycle_to_msg(cycle, 'odom', index, 1))
         rclpy.spin_once(node, timeout_sec=0.0)
         if index % report_every == 0:
             # Let the subscriber catch up (keep-last may drop some: wait for a quiet 0.2 s).
