@@ -332,7 +332,29 @@ def test_wildcard_namespace_key_applies_in_the_root_and_any_namespace(tmp_path):
     path.write_text('/**/imu_node:\n  ros__parameters:\n    imu_qos_depth: 100\n')
     assert node_params(load_params_yaml(path), 'imu_node') == {'imu_qos_depth': 100}
     assert node_params(load_params_yaml(path), 'classifier_node') == {}
-    assert CONFIG_YAML.read_text().count('\n/**/') == 2
+    assert CONFIG_YAML.read_text().count('\n/**/') == 3      # imu_node, classifier_node,
+    #                                                        command_centre
+
+
+def test_command_centre_values_must_agree(tmp_path):
+    """The alarm comes after the pre-alarm; a TLS certificate needs its key."""
+    from anfis_elevation_ros.core.params import COMMAND_CENTRE_NODE, load_params_yaml
+
+    path = tmp_path / 'p.yaml'
+    path.write_text('command_centre:\n  ros__parameters:\n    alarm:\n'
+                    '      no_motion_prealarm_s: 20.0\n      no_motion_alarm_s: 10.0\n')
+    with pytest.raises(InputError, match='no_motion_alarm_s must not be less'):
+        load_params_yaml(path)
+    path.write_text('/**/command_centre:\n  ros__parameters:\n    tls_cert_file: c.pem\n')
+    with pytest.raises(InputError, match='give both or neither'):
+        load_params_yaml(path)
+    path.write_text('command_centre:\n  ros__parameters:\n    port: 70000\n')
+    with pytest.raises(InputError, match='port'):
+        load_params_yaml(path)
+    path.write_text('/**/command_centre:\n  ros__parameters:\n    port: 0\n'
+                    '    alarm: {lost_contact_s: 2.0}\n')
+    assert node_params(load_params_yaml(path), COMMAND_CENTRE_NODE) == {
+        'port': 0, 'alarm.lost_contact_s': 2.0}
 
 
 def test_run_namespace_is_checked_and_remaps_both_nodes():

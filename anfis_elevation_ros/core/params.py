@@ -19,7 +19,8 @@ A parameter's name is the path of its dataclass field: the navigator's fields at
 (``rate_hz``, ``zupt.threshold``, ``ekf.zupt_sigma_mps``, ``gait.min_swing_s``, ...), the
 classifier's under ``elevation.`` (``ElevationParams``), the input gate's under ``gate.``
 (``GateParams``; its ``max_gap_s`` is the navigator's ``max_gap_s``), plus ``model_path`` and a
-few node-level parameters (topics, frames, rates). Defaults come from the dataclasses; the
+few node-level parameters (topics, frames, rates); the command centre's (web server, discovery,
+alarm timers under ``alarm.``, mirroring ``command_centre.alarms.AlarmParams``). Defaults come from the dataclasses; the
 description, range and read-only flag of every parameter are written once, in ``_DOCS``
 below, and serve the ROS parameter descriptors, the validation of YAML files and of live
 changes, and ``config/params.yaml`` (``params_yaml_text`` renders it).
@@ -35,6 +36,7 @@ the node key (``/ns/imu_node``). Scalars are typed as rcl types them (``1.2e7`` 
 Parameters rclpy handles itself (``use_sim_time``, ``qos_overrides.*``) are let through.
 
 Public API: ``ParamSpec``, ``PipelineParams``, ``IMU_NODE``, ``CLASSIFIER_NODE``,
+``COMMAND_CENTRE_NODE``, ``ALARM_PREFIX``,
 ``node_specs``, ``all_specs``, ``validate_value``, ``is_ros_owned``,
 ``navigator_params_from_dict``, ``elevation_params_from_dict``, ``gate_params_from_dict``,
 ``load_params_yaml``, ``node_params``, ``load_pipeline_params``, ``config_search_paths``,
@@ -62,7 +64,9 @@ from .stair_database import BuildingAidParams
 PACKAGE = 'anfis_elevation_ros'
 IMU_NODE = 'imu_node'
 CLASSIFIER_NODE = 'classifier_node'
-NODE_NAMES = (IMU_NODE, CLASSIFIER_NODE)
+COMMAND_CENTRE_NODE = 'command_centre'
+NODE_NAMES = (IMU_NODE, CLASSIFIER_NODE, COMMAND_CENTRE_NODE)
+ALARM_PREFIX = 'alarm.'
 DEFAULT_MODEL_FILE = 'anfis_default.json'
 PARAMS_FILE = 'params.yaml'
 ELEVATION_PREFIX = 'elevation.'
@@ -311,6 +315,30 @@ _CLASSIFIER_NODE_ONLY = (
     _MAP_FRAME_ID,
     _BUILDING_FILE,
 ) + _PERSISTENCE
+_COMMAND_CENTRE_SPECS = (
+    _BUILDING_FILE,
+    ParamSpec('host', '127.0.0.1', 'Address the web page is served on; one other than the '
+              'loopback needs TLS (tls_cert_file, tls_key_file) or insecure.'),
+    ParamSpec('port', 8088, 'TCP port of the web page; 0 picks a free one.', 0, 65535),
+    ParamSpec('insecure', False, 'Serve plain HTTP on an address other than the loopback (a '
+              'closed network only: the session token would cross it in clear).'),
+    ParamSpec('tls_cert_file', '', "PEM certificate of the web page (HTTPS); '' for none."),
+    ParamSpec('tls_key_file', '', "PEM private key of tls_cert_file; '' for none."),
+    ParamSpec('discovery_period_s', 1.0, 'The ROS graph is searched for new responders (a '
+              "namespace publishing 'elevation') this often, s.", 0.1, 60.0),
+    ParamSpec('tick_rate_hz', 4.0, 'Rate at which the alarm timers are evaluated, Hz.', 0.5,
+              20.0),
+    ParamSpec(ALARM_PREFIX + 'no_motion_prealarm_s', 20.0, 'Time without motion before the '
+              'man-down pre-alarm, s (PASS devices: 20 s).', 0.5, 600.0),
+    ParamSpec(ALARM_PREFIX + 'no_motion_alarm_s', 30.0, 'Time without motion before the man-down '
+              'alarm, s (PASS devices: about 30 s); at least the pre-alarm time.', 0.5, 600.0),
+    ParamSpec(ALARM_PREFIX + 'motion_threshold_m', 0.3, 'A move of the foot larger than this '
+              'from where it last moved is motion, m.', 0.05, 5.0),
+    ParamSpec(ALARM_PREFIX + 'lost_contact_s', 10.0, 'Time without any message from a '
+              'responder before the lost-contact alarm, s.', 0.5, 600.0),
+    ParamSpec(ALARM_PREFIX + 'floor_unknown_s', 30.0, 'Time with the floor uncertain before the '
+              'floor-unknown alarm, s.', 0.5, 3600.0),
+)
 
 
 def _param_value(value):
@@ -348,8 +376,9 @@ _NODE_SPECS = {
                + tuple(a for a in _AID_SPECS if a.name not in CLASSIFIER_AIDS)},
     CLASSIFIER_NODE: {s.name: s for s in _ELEVATION_SPECS + _CLASSIFIER_NODE_ONLY
                       + tuple(a for a in _AID_SPECS if a.name in CLASSIFIER_AIDS)},
+    COMMAND_CENTRE_NODE: {s.name: s for s in _COMMAND_CENTRE_SPECS},
 }
-_ALL_SPECS = {**_NODE_SPECS[IMU_NODE], **_NODE_SPECS[CLASSIFIER_NODE]}
+_ALL_SPECS = {name: spec for node in NODE_NAMES for name, spec in _NODE_SPECS[node].items()}
 if set(_DOCS) - set(_ALL_SPECS):
     raise RuntimeError(f'_DOCS names no field: {sorted(set(_DOCS) - set(_ALL_SPECS))}')
 
@@ -364,7 +393,7 @@ def node_specs(node_name: str) -> dict:
 
 
 def all_specs() -> dict:
-    """Return {name: ParamSpec} of every parameter of both nodes."""
+    """Return {name: ParamSpec} of every parameter of every node."""
     return dict(_ALL_SPECS)
 
 
@@ -720,7 +749,7 @@ def load_params_yaml(path) -> dict:
         nodes = _nodes_of_key(node_key)
         if not nodes:
             raise InputError(f'{where}: unknown node {node_key!r}; the nodes are '
-                             f'{", ".join(NODE_NAMES)} (or /** for both)')
+                             f'{", ".join(NODE_NAMES)} (or /** for all)')
         specs = {}
         for node in nodes:
             specs.update(_NODE_SPECS[node])
@@ -764,8 +793,21 @@ def _check_node_consistent(node_name: str, flat: dict):
     if node_name == IMU_NODE:
         navigator_params_from_dict(flat)
         gate_params_from_dict(flat)
+    elif node_name == COMMAND_CENTRE_NODE:
+        check_command_centre_params(flat)
     else:
         elevation_params_from_dict(flat)
+
+
+def check_command_centre_params(flat: dict):
+    """Raise InputError when the command centre's values (defaults filled in) do not agree."""
+    specs = _NODE_SPECS[COMMAND_CENTRE_NODE]
+    values = {name: flat.get(name, spec.default) for name, spec in specs.items()}
+    if values['alarm.no_motion_alarm_s'] < values['alarm.no_motion_prealarm_s']:
+        raise InputError('alarm.no_motion_alarm_s must not be less than '
+                         'alarm.no_motion_prealarm_s')
+    if bool(values['tls_cert_file']) != bool(values['tls_key_file']):
+        raise InputError('tls_cert_file and tls_key_file go together: give both or neither')
 
 
 def load_pipeline_params(path=None, building_file=None) -> PipelineParams:
@@ -901,7 +943,7 @@ def _comment(spec: ParamSpec) -> str:
 
 def params_yaml_text() -> str:
     """
-    Render config/params.yaml: every parameter of both nodes, its default and a comment.
+    Render config/params.yaml: every parameter of every node, its default and a comment.
 
     Nested names are written as nested maps, as ROS 2 parameter files usually are. Each node
     is keyed ``/**/<node>``, so that the file applies in any namespace (``run --namespace``).
@@ -930,7 +972,8 @@ def params_yaml_text() -> str:
     return '\n'.join(lines) + '\n'
 
 
-__all__ = ['building_aid_params_from_dict', 'CLASSIFIER_NODE', 'IMU_NODE', 'ParamSpec',
+__all__ = ['ALARM_PREFIX', 'building_aid_params_from_dict', 'check_command_centre_params',
+           'CLASSIFIER_NODE', 'COMMAND_CENTRE_NODE', 'IMU_NODE', 'ParamSpec',
            'PipelineParams', 'all_specs',
            'config_search_paths', 'elevation_params_from_dict', 'find_config_file',
            'gate_params_from_dict', 'is_ros_owned', 'load_model', 'load_params_yaml',
