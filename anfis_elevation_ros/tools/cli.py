@@ -36,6 +36,7 @@ TOOL_MODULES = (
     'plot',
     'record',
     'run',
+    'command_centre',
 )
 
 
