@@ -108,7 +108,7 @@ def run_command_centre(args) -> int:
         threading.Thread(target=server.serve_forever, kwargs={'poll_interval': 0.2},
                          name='web', daemon=True).start()
         spinner.add_node(node)
-        print(f'command-centre: {server.url()}  (pid {os.getpid()}; Ctrl-C to stop)\n'
+        print(f'command-centre: {server.url}  (pid {os.getpid()}; Ctrl-C to stop)\n'
               f'command-centre: session token {token}', flush=True)
         spinner.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
