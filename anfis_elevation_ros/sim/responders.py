@@ -13,10 +13,11 @@
 # limitations under the License.
 
 """
-A small incident: three responders in a three-storey tower, for the command-centre demo and tests.
+Three simulated responders in a three-storey tower: the command-centre demo and tests.
 
 The tower has one stairwell, floors 0, 1 and 2, ``STOREY_STEPS`` risers of ``STEP_HEIGHT_M``
-per storey (3.06 m: floors at 0, 3.06, 6.12 m). Each responder walks a :func:`~.scenarios.tower_walk` route with short
+per storey (3.06 m: floors at 0, 3.06 and 6.12 m, which the nodes' default storey height of
+3 m tells apart). Each responder walks a :func:`~.scenarios.tower_walk` route with short
 corridors and then stands still for ``final_stand_s``:
 
 - ``/ff1`` climbs to floor 1,
