@@ -92,7 +92,7 @@ def test_command_centre_options_become_parameters(tmp_path):
 
 @pytest.fixture()
 def centre_and_responder():
-    """A CommandCentreNode and a node publishing as two responders, spun in a thread."""
+    """Spin a CommandCentreNode and a node publishing as two responders in a thread."""
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
 

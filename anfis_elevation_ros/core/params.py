@@ -20,10 +20,11 @@ A parameter's name is the path of its dataclass field: the navigator's fields at
 classifier's under ``elevation.`` (``ElevationParams``), the input gate's under ``gate.``
 (``GateParams``; its ``max_gap_s`` is the navigator's ``max_gap_s``), plus ``model_path`` and a
 few node-level parameters (topics, frames, rates); the command centre's (web server, discovery,
-alarm timers under ``alarm.``, mirroring ``command_centre.alarms.AlarmParams``). Defaults come from the dataclasses; the
-description, range and read-only flag of every parameter are written once, in ``_DOCS``
-below, and serve the ROS parameter descriptors, the validation of YAML files and of live
-changes, and ``config/params.yaml`` (``params_yaml_text`` renders it).
+alarm timers under ``alarm.``, mirroring ``command_centre.alarms.AlarmParams``). Defaults
+come from the dataclasses; the description, range and read-only flag of every parameter are
+written once, in ``_DOCS`` below (in the spec itself for node-level ones), and serve the ROS
+parameter descriptors, the validation of YAML files and of live changes, and
+``config/params.yaml`` (``params_yaml_text`` renders it).
 
 Value types follow ROS 2 parameters exactly, so a file that passes here also loads in the
 nodes: ``bool``, ``int``, ``double`` (a whole number must be written ``400.0``: ROS refuses

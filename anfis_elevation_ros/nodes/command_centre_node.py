@@ -53,12 +53,12 @@ from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from std_msgs.msg import Bool, Int32, Int8
 
-from ..core.building import load_building_file
-from ..core.errors import InputError
-from ..core.params import ALARM_PREFIX, COMMAND_CENTRE_NODE
 from .node_params import declare_node_parameters
 from .qos import DIAGNOSTICS_QOS, LATEST_QOS
 from .stamps import stamp_to_ns
+from ..core.building import load_building_file
+from ..core.errors import InputError
+from ..core.params import ALARM_PREFIX, COMMAND_CENTRE_NODE
 
 ELEVATION = 'elevation'
 ELEVATION_TYPE = 'geometry_msgs/msg/PointStamped'

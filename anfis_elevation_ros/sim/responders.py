@@ -62,7 +62,7 @@ class ResponderPlan:
 
     @property
     def final_floor(self) -> int:
-        """The floor the responder ends on."""
+        """Return the floor the responder ends on."""
         return self.route[-1]
 
 
