@@ -70,8 +70,11 @@ N_NOMINAL = 16
 PREV_STAMP_NS, STILL_SAMPLES, MIN_STANCE_SAMPLES, RELEVEL, GAPS, MISSING_SAMPLES, \
     STANCE_SAMPLES = range(7)
 # and its real-valued state and settings (THRESHOLD_LAW: the arguments of adaptive_threshold).
-THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE = range(8)
-THRESHOLD_LAW = slice(8, 13)
+THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL, \
+    GYR_RAIL_NOISE = range(10)
+THRESHOLD_LAW = slice(10, 15)
+GYR_RAIL_FRACTION = 0.99
+"""A rate within 1 % of ``gyro_range_rps`` is at the rail (sensors stop a little short)."""
 
 
 @dataclass(frozen=True)
@@ -89,6 +92,8 @@ class NavigatorParams:
     still_gyr_rps : the start-up stance gives the initial gyro bias when no rate in it
         exceeds this (the foot was still, not rolling through a step).
     max_gap_s : a larger interval between samples is a gap (the cycle it falls in is invalid).
+    gyro_range_rps : the gyroscope's measurement range, rad/s (a rate at it is clipped, see
+        ``ekf.clipped_gyro_noise``); 0 when unknown (no clipping handled).
     mounting_rpy_deg : roll, pitch, yaw (deg) of the mounting C_fb, v_f = C_fb v_b (foot frame
         x forward, y left, z up), or None for automatic mode (forward axis from the first
         strides).
@@ -104,6 +109,7 @@ class NavigatorParams:
     init_stance_s: float = 0.1
     still_gyr_rps: float = 0.05
     max_gap_s: float = 0.05
+    gyro_range_rps: float = 0.0
     mounting_rpy_deg: tuple = None
 
     def __post_init__(self):
@@ -117,6 +123,9 @@ class NavigatorParams:
             raise InputError(f'still_gyr_rps = {self.still_gyr_rps} is outside [0, 1]')
         if not 0.005 <= self.max_gap_s <= 1.0:
             raise InputError(f'max_gap_s = {self.max_gap_s} is outside [0.005, 1]')
+        if self.gyro_range_rps != 0.0 and not 1.0 <= self.gyro_range_rps <= 200.0:
+            raise InputError(f'gyro_range_rps = {self.gyro_range_rps} must be 0 (unknown) or '
+                             f'in [1, 200] rad/s')
         if self.mounting_rpy_deg is not None and len(self.mounting_rpy_deg) != 3:
             raise InputError(f'mounting_rpy_deg = {self.mounting_rpy_deg} must be 3 angles')
 
@@ -195,6 +204,9 @@ def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial,
     # S3, eq. (5)-(6): covariance prediction.
     phi = ekf.error_transition_matrix(C_mid, mat_vec(C_mid, acc_mid), dt_s, phi)
     P[:, :] = ekf.predict_covariance(P, phi, Q_per_s * dt_s)
+    rail = scalars[GYR_RAIL]
+    if rail > 0.0 and max(abs(gyr_b[0]), abs(gyr_b[1]), abs(gyr_b[2])) >= rail:
+        ekf.clipped_gyro_noise(P, scalars[GYR_RAIL_NOISE], dt_s)
 
     # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still).
     still = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b, gyr_b) \
@@ -295,9 +307,11 @@ class FootNavigator:
         self._intensity = GaitIntensity(p.zupt, rate_hz)
         self._scalars = np.zeros(THRESHOLD_LAW.stop)
         self._scalars[THRESHOLD_LAW] = p.zupt.threshold_law()
-        self._scalars[[GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE]] = (
+        self._scalars[[GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL,
+                       GYR_RAIL_NOISE]] = (
             p.gravity_mps2, rate_hz, p.max_gap_s, p.gait.max_swing_s, p.ekf.zupt_sigma_mps,
-            float(p.zupt.adaptive))
+            float(p.zupt.adaptive), GYR_RAIL_FRACTION * p.gyro_range_rps,
+            p.ekf.gyr_rail_noise_rps)
         self._scalars[THRESHOLD] = self._current_threshold()
         self._counts = np.zeros(STANCE_SAMPLES + 1, dtype=np.int64)
         self._counts[MIN_STANCE_SAMPLES] = p.zupt.min_stance_samples(rate_hz)

@@ -172,6 +172,9 @@ _DOCS = {
                       'this, rad/s.', 0.0, 1.0, _READ_ONLY),
     'max_gap_s': ('An interval between samples longer than this is a gap: the gait cycle it '
                   'falls in is invalid, s.', 0.005, 1.0, _READ_ONLY),
+    'gyro_range_rps': ('Gyroscope measurement range, rad/s: rates at it are clipped and add '
+                       'attitude noise (ekf.gyr_rail_noise_rps); 0 = unknown.', 0.0, 200.0,
+                       _READ_ONLY),
     'mounting_rpy_deg': ('IMU mounting on the foot as roll, pitch, yaw, deg (as simulate '
                          '--mounting-rpy-deg; 180 0 0 is z down); empty = automatic (forward '
                          'axis from the first strides).', -360.0, 360.0, _READ_ONLY),
@@ -212,6 +215,8 @@ _DOCS = {
     'ekf.init_yaw_sigma_rad': ('Initial heading uncertainty, rad.', 1e-6, 1.0, _READ_ONLY),
     'ekf.init_acc_bias_sigma_mps2': ('Initial accelerometer bias uncertainty, m/s^2.', 1e-5,
                                      5.0, _READ_ONLY),
+    'ekf.gyr_rail_noise_rps': ('Rate by which the true rotation may exceed a clipped gyro '
+                               'sample, rad/s.', 1e-6, 100.0, _READ_ONLY),
     'ekf.init_gyr_bias_sigma_rps': ('Initial gyroscope bias uncertainty, rad/s.', 1e-6, 1.0,
                                     _READ_ONLY),
     # HeadingAidParams

@@ -44,6 +44,7 @@ References
 
 import csv
 from dataclasses import dataclass
+import math
 from pathlib import Path
 
 import numpy as np
@@ -54,6 +55,8 @@ from ..core.errors import InputError
 from ..core.imu_data import ImuRecording
 
 GAUSS_TO_TESLA = 1e-4
+GYRO_RANGE_RPS = math.radians(500.0)
+"""The gyro's range on these walks: flat runs of samples at 8.70-8.72 rad/s in fast swings."""
 _AXES = ('X', 'Y', 'Z')
 #: Column stems of the two layouts: (acc stem, acc scale to m/s^2, gyr stem, mag stem or None).
 LAYOUTS = {

@@ -19,7 +19,8 @@ Run from the repository root: ``python test/benchmarks/bench_gdin_hallway.py``. 
 cycles against ``numberOfStrides``, the final-position error as % of the path (truth polyline
 through the stride positions), and the mean error of the stride-end positions (only when every
 stride was detected, so that cycle i is stride i), for the plain filter and with each heading
-aid (``heading.zaru_enabled``, ``heading.hde_enabled``, both) side by side. The track's
+aid (``heading.zaru_enabled``, ``heading.hde_enabled``, both) side by side, with the gyro's
+range declared (``gyro_range_rps``: clipped samples add attitude noise). The track's
 heading is aligned to the truth on the first ``ALIGN_STRIDES`` stride ends (least-squares
 rotation about the start): the IMU's initial heading is unknown, as in any foot-mounted INS
 benchmark.
@@ -28,7 +29,7 @@ benchmark.
 from anfis_elevation_ros.core.heading_aids import HeadingAidParams
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.tools.datasets import dataset_files
-from anfis_elevation_ros.tools.gdin_hallway import load_gdin_walk
+from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_walk
 import numpy as np
 
 ALIGN_STRIDES = 3
@@ -67,7 +68,8 @@ def main():
         walk = load_gdin_walk(path)
         row = []
         for name, aid in AIDS.items():
-            cycles, final_pct, mean_m = walk_figures(walk, NavigatorParams(heading=aid))
+            cycles, final_pct, mean_m = walk_figures(
+                walk, NavigatorParams(heading=aid, gyro_range_rps=GYRO_RANGE_RPS))
             finals[name].append(final_pct)
             row.append(f'{final_pct:5.1f} {mean_m:5.2f}')
         print(f'{path.stem[-2:]} {cycles:4d}/{walk.n_strides:<4d} {walk.path_length_m:6.1f} | '
