@@ -116,6 +116,14 @@ def banner_lines(driver, start):
     return [line for line in lines if line.startswith(start)]
 
 
+def open_alert(driver):
+    from selenium.common.exceptions import NoAlertPresentException
+    try:
+        return driver.switch_to.alert
+    except NoAlertPresentException:
+        return None
+
+
 def click(driver, css):
     driver.find_element('css selector', css).click()
 
@@ -224,6 +232,25 @@ def test_page_without_a_building_draws_a_grid_and_the_floors_seen(browser):
         assert [(b['floor'], b['count']) for b in floor_buttons(browser)] == [(2, 1)]
         assert browser.find_element('css selector', '#floors .floorless').text == 'No floor: 1'
         assert len(browser.find_elements('css selector', '#map path')) >= 3   # grid + markers
+
+        # Roll call and evacuation: the token asked once, the order confirmed, both logged.
+        click(browser, '#roll-call')
+        wait_until(browser, lambda d: d.find_element('id', 'token-input').is_displayed(),
+                   'the token dialog')
+        browser.find_element('id', 'token-input').send_keys(TOKEN)
+        browser.find_element('id', 'name-input').send_keys('IC Page')
+        click(browser, '#token-ok')
+        wait_until(browser, lambda d: 'Roll call by IC Page: 2 responders' in
+                   d.find_element('id', 'log').text, 'the roll call in the log')
+        click(browser, '#evacuate')
+        alert = wait_until(browser, open_alert, 'the confirmation')
+        alert.accept()
+        wait_until(browser, lambda d: 'EVACUATION ordered' in
+                   d.find_element('id', 'incident-status').text, 'the evacuation order')
+        assert incident.snapshot()['evacuation']['by'] == 'IC Page'
+    # The command centre stops: the page says so instead of showing stale positions as live.
+    wait_until(browser, lambda d: 'NO CONNECTION' in d.find_element('id', 'connection').text,
+               'the lost connection')
 
 
 def test_page_updates_within_a_second(browser):
