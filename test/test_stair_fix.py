@@ -27,7 +27,7 @@ import math
 from anfis_elevation_ros.core import ekf
 from anfis_elevation_ros.core.building import Building, Floor, StairEntry, Start
 from anfis_elevation_ros.core.errors import InputError
-from anfis_elevation_ros.core.navigator import TrackPoint
+from anfis_elevation_ros.core.navigator import FootNavigator, TrackPoint
 from anfis_elevation_ros.core.params import load_model, load_pipeline_params
 from anfis_elevation_ros.core.position_fix import PositionFixQueue
 from anfis_elevation_ros.core.stair_database import association_threshold_m, CorrectionRequest
@@ -294,6 +294,30 @@ def test_state_stair_fixes_are_checked():
         NavigationState(**fields, stair_fixes=[1.5])
     with pytest.raises(InputError, match='stair_fixes'):
         NavigationState(**fields, stair_fixes=[True])
+
+
+def test_a_resumed_filter_keeps_its_uncertainty_for_the_next_correction(stair_walk):
+    # Position sigma 0.5 m (trace), so 0.25 / 3 m^2 per axis: K = 0.0833 / (0.0833 + 0.09).
+    walk = stair_walk[0]
+    recording = walk.to_recording()
+    moves = []
+    for sigmas in (None, (0.5, 0.05)):
+        navigator = FootNavigator(start_pos_n=(1.0, 2.0, 0.0), start_sigmas=sigmas)
+        k = 0
+        while not navigator.initialised:
+            navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k], recording.gyr_b[k])
+            k += 1
+        point, _ = navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k],
+                                  recording.gyr_b[k])
+        navigator.correct_position(np.array([0.4, 0.0]), 0.3)
+        after, _ = navigator.step(int(recording.stamp_ns[k + 1]), recording.acc_b[k + 1],
+                                  recording.gyr_b[k + 1])
+        moves.append(after.pos_n[0] - point.pos_n[0])
+    assert abs(moves[0]) < 1e-3          # a fresh start: the position is known
+    gain = (0.25 / 3 + 1e-8) / (0.25 / 3 + 1e-8 + 0.09)
+    assert moves[1] == pytest.approx(0.4 * gain, abs=2e-3)
+    with pytest.raises(InputError, match='start sigmas'):
+        FootNavigator(start_sigmas=(math.nan, 0.0))
 
 
 # -- the whole chain offline ------------------------------------------------------------------

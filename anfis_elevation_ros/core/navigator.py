@@ -158,7 +158,8 @@ class NavigatorStatus:
     cycles: int = 0
     invalid_cycles: int = 0
     last_nis: float = 0.0
-    pos_sigma_m: float = 0.0
+    pos_sigma_m: float = 0.0       # sqrt(trace of the position covariance), at the last cycle
+    yaw_sigma_rad: float = 0.0     # standard deviation of the heading, at the last cycle
 
 
 @jit
@@ -261,6 +262,11 @@ class FootNavigator:
         Position to start at, m (resuming a saved state); default the origin.
     start_heading_rad : float
         IMU yaw to start with, rad (resuming a saved state).
+    start_sigmas : (float, float) or None
+        Resuming a saved state: (sqrt of the trace of the position covariance, m; heading
+        standard deviation, rad) it had; the filter starts with that uncertainty (spread evenly
+        over x, y, z) instead of a known position and heading, so that the next stair-entry
+        correction weighs as it would have without the restart.
     map_alignment : MapAlignment or None
         Put the track in a building's map frame (``core/map_frame.py``): positions and
         attitudes returned are map-frame ones; after the alignment strides the filter itself
@@ -281,7 +287,7 @@ class FootNavigator:
 
     def __init__(self, params: NavigatorParams = None, start_pos_n=None,
                  start_heading_rad: float = 0.0, map_alignment: MapAlignment = None,
-                 dominant_directions_deg=None):
+                 dominant_directions_deg=None, start_sigmas=None):
         self.params = params or NavigatorParams()
         self._map = map_alignment
         self._aider = HeadingAider(self.params.heading, None if dominant_directions_deg is None
@@ -290,6 +296,12 @@ class FootNavigator:
         # Where navigation starts: the origin, or a resumed position and heading.
         self._start_pos_n = np.zeros(3) if start_pos_n is None else np.array(start_pos_n, float)
         self._start_heading_rad = float(start_heading_rad)
+        self._start_sigmas = None if start_sigmas is None else tuple(float(s)
+                                                                     for s in start_sigmas)
+        if self._start_sigmas is not None and (
+                len(self._start_sigmas) != 2
+                or not all(math.isfinite(s) and s >= 0.0 for s in self._start_sigmas)):
+            raise InputError(f'start sigmas must be two finite numbers >= 0, got {start_sigmas}')
         if self._start_pos_n.shape != (3,) or not np.all(np.isfinite(self._start_pos_n)) \
                 or not math.isfinite(self._start_heading_rad):
             raise InputError('start position must be 3 finite numbers and heading finite')
@@ -332,6 +344,11 @@ class FootNavigator:
         self._nominal[GYR_BIAS_B] = rest[:, 1].mean(axis=0) if still else 0.0
         self._detector.gravity_mps2 = rest_g
         self._P = ekf.initial_covariance(p.ekf)
+        if self._start_sigmas is not None:
+            pos_sigma_m, yaw_sigma_rad = self._start_sigmas
+            yaw = ekf.ATT.start + 2
+            self._P[ekf.POS, ekf.POS] += np.eye(3) * pos_sigma_m ** 2 / 3.0
+            self._P[yaw, yaw] = max(self._P[yaw, yaw], yaw_sigma_rad ** 2)
         self._C_nb = quat_to_dcm(self._nominal[Q_NB])
         stamp_ns, acc_b, gyr_b = self._rest[-1]
         self._counts[PREV_STAMP_NS] = stamp_ns
@@ -440,6 +457,8 @@ class FootNavigator:
             status.cycles += 1
             status.invalid_cycles += not cycle.valid
             status.pos_sigma_m = math.sqrt(max(0.0, np.trace(self._P[ekf.POS, ekf.POS])))
+            status.yaw_sigma_rad = math.sqrt(max(0.0, self._P[ekf.ATT.start + 2,
+                                                              ekf.ATT.start + 2]))
             if self._map is not None and not self._map.fixed:
                 cycle = self._align_map(cycle)
             else:

@@ -118,6 +118,9 @@ class NavigationState:
     stair_fixes : list of int
         Identities (cycle stamps, ns) of the stair-entry corrections already contained in the
         position (``core/position_fix.py``): never applied again after a resume.
+    pos_sigma_m, yaw_sigma_rad : float
+        Uncertainty of the position (sqrt of the trace of its covariance, m) and of the heading
+        (rad) at the cycle: the resumed filter starts with it (0: as a fresh start).
 
     """
 
@@ -134,6 +137,8 @@ class NavigationState:
     walk_id: int
     map_frame: bool = False
     stair_fixes: list = field(default_factory=list)
+    pos_sigma_m: float = 0.0
+    yaw_sigma_rad: float = 0.0
 
     def __post_init__(self):
         _check_fields(self)
@@ -145,6 +150,9 @@ class NavigationState:
                 isinstance(v, int) and not isinstance(v, bool) for v in self.stair_fixes):
             raise InputError(f'state stair_fixes must be at most {MAX_STAIR_FIXES} integers '
                              '(cycle stamps, ns)')
+        if not (0.0 <= self.pos_sigma_m <= 1e4 and 0.0 <= self.yaw_sigma_rad <= 10.0):
+            raise InputError(f'state pos_sigma_m = {self.pos_sigma_m}, yaw_sigma_rad = '
+                             f'{self.yaw_sigma_rad}: outside [0, 1e4] m, [0, 10] rad')
 
 
 @dataclass(frozen=True)

@@ -385,7 +385,8 @@ class ImuNode(PersistsState, Node):
         self._walk_id = state.walk_id
         self._navigator = FootNavigator(self._navigator_params,
                                         start_pos_n=(state.x_m, state.y_m, state.z_m),
-                                        start_heading_rad=state.heading_rad)
+                                        start_heading_rad=state.heading_rad,
+                                        start_sigmas=(state.pos_sigma_m, state.yaw_sigma_rad))
         self._fixes.restore(state.stair_fixes)
         self._cycle_index = state.cycles
         self._last_cycle_stamp_ns = state.stamp_ns
@@ -398,8 +399,9 @@ class ImuNode(PersistsState, Node):
             'resumes at the first stance')
 
     def _save_state(self, cycle):
-        pos_n = cycle.pos_n
-        filter_ok = bool(np.all(np.isfinite(pos_n))) and not self._internal_errors
+        pos_n, status = cycle.pos_n, self._navigator.status
+        filter_ok = bool(np.all(np.isfinite(pos_n))) and not self._internal_errors \
+            and 0.0 <= status.pos_sigma_m <= 1e4 and 0.0 <= status.yaw_sigma_rad <= 10.0
         self._state_writer.submit(NavigationState(
             stamp_ns=cycle.stamp_ns, wall_time_s=time.time(), source_id=self._source_id,
             x_m=float(pos_n[0]) if filter_ok else 0.0,
@@ -408,7 +410,9 @@ class ImuNode(PersistsState, Node):
             heading_rad=self._navigator.heading_rad if filter_ok else 0.0,
             filter_ok=filter_ok, cycles=self._cycle_index,
             stride_period_s=self._stride_period_s(), walk_id=self._walk_id,
-            map_frame=self._in_map_frame, stair_fixes=self._fixes.applied_before(cycle.stamp_ns)))
+            map_frame=self._in_map_frame, stair_fixes=self._fixes.applied_before(cycle.stamp_ns),
+            pos_sigma_m=status.pos_sigma_m if filter_ok else 0.0,
+            yaw_sigma_rad=status.yaw_sigma_rad if filter_ok else 0.0))
 
     # -- outputs -------------------------------------------------------------------------------
 
