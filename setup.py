@@ -18,7 +18,8 @@ Packaging of anfis_elevation_ros for colcon (ament_python) and for plain pip.
 colcon (with ROS 2 Jazzy from apt) reads ``package.xml`` for the dependencies and runs this file;
 the executables go to ``lib/anfis_elevation_ros`` (see ``setup.cfg``) where ``ros2 run`` looks.
 pip reads the same file: ``pip install -e '.[standalone]'`` pulls the pinned ROS 2 Jazzy wheels
-from PyPI so that the nodes and tools run with no ROS install; ``[test]`` adds the test tools.
+from PyPI so that the nodes and tools run with no ROS install; ``[train]`` adds scikit-learn
+(only ``train --backend forest`` needs it) and ``[test]`` the test tools.
 """
 
 from glob import glob
@@ -40,6 +41,8 @@ INSTALL_REQUIRES = [
 # Optional features, installed by apt on a ROS machine (package.xml) and by [standalone] on pip.
 PLOT_REQUIRES = ['matplotlib>=3.6']        # PNG plot of height and floor
 DATASETS_REQUIRES = ['scipy>=1.11']        # scipy.io.loadmat for the public .mat datasets
+# Growing the random-forest classifier (train --backend forest); inference needs none of it.
+TRAIN_REQUIRES = ['scikit-learn==1.9.1']
 
 # Everything needed to run the nodes and tools with no ROS install: ROS 2 Jazzy wheels from
 # PyPI, pinned exactly (they are built together), plus the tested versions of the rest.
@@ -81,7 +84,7 @@ TEST_REQUIRES = [
     'colcon-core==0.21.3',
     'colcon-ros==0.5.0',
     'selenium==4.50.0',     # the command centre's page in Debian's chromium + chromium-driver
-]
+] + TRAIN_REQUIRES
 
 setup(
     name=PACKAGE_NAME,
@@ -100,6 +103,7 @@ setup(
         'plot': PLOT_REQUIRES,
         'datasets': DATASETS_REQUIRES,
         'standalone': STANDALONE_REQUIRES,
+        'train': TRAIN_REQUIRES,
         'test': TEST_REQUIRES,
     },
     zip_safe=False,

@@ -47,7 +47,7 @@ from unittest import mock
 
 from anfis_elevation_ros.core.anfis import Anfis
 from anfis_elevation_ros.core.errors import InputError
-from anfis_elevation_ros.core.gait import GaitCycle
+from anfis_elevation_ros.core.gait import GaitCycle, N_FEATURES
 from anfis_elevation_ros.core.height import ElevationParams, ElevationTracker
 from anfis_elevation_ros.core.imu_data import ImuRecording
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
@@ -301,19 +301,20 @@ def test_imu_node_after_a_clock_jump_of_years(context, walk):
 # -- the classifier node -----------------------------------------------------------------------
 
 def cycle_message(stamp_ns, values, index):
-    """Build a well-formed gait-cycle PointCloud2 (values: x, y, z, valid, five features)."""
+    """Build a well-formed gait-cycle PointCloud2 (values: x, y, z, valid, the features)."""
     cycle = GaitCycle(stamp_ns=stamp_ns, start_stamp_ns=0, pos_n=np.array(values[:3]),
-                      features=np.array(values[4:9]), valid=bool(values[3]))
+                      features=np.array(values[4:]), valid=bool(values[3]))
     return cycle_to_msg(cycle, 'odom', index, 1)
 
 
 PLAUSIBLE_CYCLE = st.tuples(*[st.floats(-5.0, 5.0)] * 3, st.booleans(),
-                            *[st.floats(-1.0, 1.0)] * 5)
+                            *[st.floats(-1.0, 1.0)] * N_FEATURES)
 FIELD = st.builds(PointField, name=st.one_of(st.sampled_from(CYCLE_FIELDS), st.text(max_size=8)),
                   offset=st.one_of(st.integers(0, 100), UINT32), datatype=st.integers(0, 255),
                   count=st.one_of(st.integers(0, 3), UINT32))
 CYCLE_DAMAGE = st.one_of(
-    st.tuples(st.just('values'), st.lists(ANY_FLOAT, min_size=10, max_size=10)),
+    st.tuples(st.just('values'), st.lists(ANY_FLOAT, min_size=len(CYCLE_FIELDS),
+                                          max_size=len(CYCLE_FIELDS))),
     st.tuples(st.just('fields'), st.lists(FIELD, max_size=12)),
     st.tuples(st.just('drop_field'), st.integers(0, len(CYCLE_FIELDS) - 1)),
     st.tuples(st.just('point_step'), UINT32),
@@ -327,7 +328,7 @@ def damaged_cycle_message(msg, how):
     """Apply one CYCLE_DAMAGE to a gait-cycle message (in place) and return it."""
     kind, arg = how
     if kind == 'values':
-        msg.data = struct.pack('<10d', *arg)
+        msg.data = struct.pack(f'<{len(CYCLE_FIELDS)}d', *arg)
     elif kind == 'fields':
         msg.fields = arg
     elif kind == 'drop_field':
@@ -810,7 +811,9 @@ def test_an_absurd_climb_does_not_wrap_the_height(model_path):
     """A finite but absurd height change (a diverged INS) is not trusted: an invalid cycle."""
     tracker = ElevationTracker(Anfis.load(model_path), ElevationParams())
     for dh in (1e20, -1e20, 10.5):
-        estimate = tracker.update(1, [0.1, 0.01, dh, 0.5, 0.1], 0.0, 0.0)
+        features = np.zeros(N_FEATURES)
+        features[:5] = [0.1, 0.01, dh, 0.5, 0.1]
+        estimate = tracker.update(1, features, 0.0, 0.0)
         assert estimate.mode == 0 and estimate.height_m == 0.0, estimate
     assert tracker.implausible_cycles == 3 and tracker.unbridged_cycles == 0
 

@@ -54,6 +54,7 @@ def run_segmenter(heights, stance, params=GaitParams(), gaps=None):
     cycles = []
     for k, (h, still) in enumerate(zip(heights, stance)):
         cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
+                                 np.array([0.0, 0.0, 9.81]), np.zeros(3), np.zeros(3),
                                  gap=bool(gaps is not None and gaps[k]))
         if cycle is not None:
             cycles.append(cycle)

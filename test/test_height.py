@@ -28,7 +28,7 @@ import pytest
 class ScriptedModel:
     """Stand-in for the ANFIS: returns a scripted output per call and records its inputs."""
 
-    n_inputs = 5
+    n_inputs = len(FEATURE_NAMES)
 
     def __init__(self, outputs):
         self.outputs = list(outputs)
@@ -40,7 +40,8 @@ class ScriptedModel:
 
 
 def _features(dh_m):
-    features = np.array([dh_m / 2.0, abs(dh_m) / 3.0, 0.0, abs(dh_m) + 0.02, 0.3])
+    features = np.zeros(len(FEATURE_NAMES))
+    features[:5] = [dh_m / 2.0, abs(dh_m) / 3.0, 0.0, abs(dh_m) + 0.02, 0.3]
     features[HEIGHT_CHANGE] = dh_m
     return features
 
@@ -213,8 +214,9 @@ def test_tracker_rejects_bad_cycles_and_keeps_its_state():
     height = tracker.height_m
     bad = _features(0.17)
     bad[1] = np.nan
-    for features, x_m, match in [(bad, 0.0, 'not finite'), (np.ones(4), 0.0, r'\(5,\)'),
-                                 (np.ones((1, 5)), 0.0, r'\(5,\)'), (['a'] * 5, 0.0, 'numbers'),
+    shape = rf'\({len(FEATURE_NAMES)},\)'
+    for features, x_m, match in [(bad, 0.0, 'not finite'), (np.ones(4), 0.0, shape),
+                                 (np.ones((1, 5)), 0.0, shape), (['a'] * 5, 0.0, 'numbers'),
                                  (_features(0.17), float('inf'), 'position')]:
         with pytest.raises(InputError, match=match):
             tracker.update(1, features, x_m, 0.0)
@@ -234,7 +236,7 @@ def test_tracker_restores_height_after_a_restart():
     assert resumed.height_m == 0.3
     with pytest.raises(ValueError, match='height_m'):
         resumed.reset(float('nan'))
-    with pytest.raises(ValueError, match='5 inputs'):
+    with pytest.raises(ValueError, match='4 inputs'):
         ElevationTracker(Anfis(4), params)
 
 

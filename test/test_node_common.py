@@ -18,7 +18,7 @@ import math
 import struct
 
 from anfis_elevation_ros.core.errors import InputError
-from anfis_elevation_ros.core.gait import GaitCycle
+from anfis_elevation_ros.core.gait import GaitCycle, N_FEATURES, PATENT_FEATURE_NAMES
 from anfis_elevation_ros.core.params import all_specs
 from anfis_elevation_ros.core.state import ElevationState, load_state
 from anfis_elevation_ros.nodes.gait_cycle_msg import CYCLE_FIELDS, cycle_from_msg, cycle_to_msg
@@ -72,11 +72,14 @@ def test_cycle_message_round_trip_and_layout():
     """Stamp, position, validity and features survive; fields are named FLOAT64 at 8k."""
     cycle = GaitCycle(stamp_ns=1_700_000_001_000_000_001, start_stamp_ns=0,
                       pos_n=np.array([1.5, -2.25, 0.34]),
-                      features=np.array([0.1, 0.02, 0.34, 0.4, 0.3]), valid=True)
+                      features=np.arange(1.0, N_FEATURES + 1.0) / 7.0, valid=True)
     msg = cycle_to_msg(cycle, 'odom', 17, 2 ** 31 - 1)
     assert [f.name for f in msg.fields] == list(CYCLE_FIELDS)
-    assert [f.offset for f in msg.fields] == [8 * i for i in range(11)]
-    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 88
+    assert [f.offset for f in msg.fields] == [8 * i for i in range(len(CYCLE_FIELDS))]
+    # The patent's fields, the index and the walk keep their first offsets; motion features follow.
+    assert CYCLE_FIELDS[:11] == ('x', 'y', 'z', 'valid') + PATENT_FEATURE_NAMES \
+        + ('cycle_index', 'walk_id')
+    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 8 * 22
     back = cycle_from_msg(msg)
     assert back.stamp_ns == cycle.stamp_ns and back.valid and back.index == 17
     assert back.walk_id == 2 ** 31 - 1
@@ -87,15 +90,15 @@ def test_cycle_message_round_trip_and_layout():
 def test_non_finite_cycle_is_sent_invalid():
     """A cycle with a NaN is marked invalid (never classified) and not dense."""
     cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
-                      features=np.array([0.1, np.nan, 0.3, 0.4, 0.3]), valid=True)
+                      features=np.r_[0.1, np.nan, np.zeros(N_FEATURES - 2)], valid=True)
     msg = cycle_to_msg(cycle, 'odom', 1, 1)
     assert not msg.is_dense and not cycle_from_msg(msg).valid
 
 
 def test_cycle_message_with_another_layout_is_refused():
     """Fewer fields, another type or two points: InputError naming the expected fields."""
-    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
-                      valid=True)
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
+                      features=np.zeros(N_FEATURES), valid=True)
     msg = cycle_to_msg(cycle, 'odom', 1, 1)
     msg.fields[3].datatype = 7                              # FLOAT32
     with pytest.raises(InputError, match='expected layout'):
@@ -105,10 +108,10 @@ def test_cycle_message_with_another_layout_is_refused():
 @pytest.mark.parametrize('index', [0.0, -3.0, 2.5, float('nan'), 2.0 ** 60])
 def test_cycle_message_with_a_bad_index_is_refused(index):
     """The index is a count from 1: anything else is a malformed message."""
-    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
-                      valid=True)
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
+                      features=np.zeros(N_FEATURES), valid=True)
     msg = cycle_to_msg(cycle, 'odom', 1, 1)
-    msg.data = bytes(msg.data)[:-16] + struct.pack('<d', index) + bytes(msg.data)[-8:]
+    msg.data = bytes(msg.data)[:72] + struct.pack('<d', index) + bytes(msg.data)[80:]
     with pytest.raises(InputError, match='cycle_index'):
         cycle_from_msg(msg)
 
@@ -116,10 +119,10 @@ def test_cycle_message_with_a_bad_index_is_refused(index):
 @pytest.mark.parametrize('walk_id', [0.0, -1.0, 7.5, float('inf'), 2.0 ** 31])
 def test_cycle_message_with_a_bad_walk_id_is_refused(walk_id):
     """The walk identity is an integer in [1, 2^31 - 1]: anything else is malformed."""
-    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3), features=np.zeros(5),
-                      valid=True)
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
+                      features=np.zeros(N_FEATURES), valid=True)
     msg = cycle_to_msg(cycle, 'odom', 1, 1)
-    msg.data = bytes(msg.data)[:-8] + struct.pack('<d', walk_id)
+    msg.data = bytes(msg.data)[:80] + struct.pack('<d', walk_id) + bytes(msg.data)[88:]
     with pytest.raises(InputError, match='walk_id'):
         cycle_from_msg(msg)
 

@@ -26,7 +26,9 @@ from pathlib import Path
 from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.anfis import Anfis
 from anfis_elevation_ros.core.errors import InputError
-from anfis_elevation_ros.core.gait import FEATURE_NAMES
+from anfis_elevation_ros.core.classifier import load_classifier
+from anfis_elevation_ros.core.forest import Forest
+from anfis_elevation_ros.core.gait import N_FEATURES, PATENT_FEATURE_NAMES
 from anfis_elevation_ros.core.height import ElevationParams, stair_mode
 from anfis_elevation_ros.core.params import load_pipeline_params
 from anfis_elevation_ros.tools import labels as lab
@@ -156,7 +158,7 @@ def test_nested_threshold_never_sees_the_fold_it_scores():
     rng = np.random.default_rng(5)
 
     def cycle_set(subject, flip=False):
-        x = rng.uniform(-1.0, 1.0, (60, 5))
+        x = rng.uniform(-1.0, 1.0, (60, N_FEATURES))
         mode = np.clip(np.round(1.5 * x[:, 0] + rng.normal(0.0, 0.3, 60)), -1, 1)
         if flip:
             mode = -mode
@@ -279,6 +281,20 @@ def test_small_training_run_is_reproducible_to_the_bit(tmp_path, capsys):
     assert 'cross-validation (recording, 3 folds)' in capsys.readouterr().out
 
 
+def test_small_forest_training_run(tmp_path):
+    """``--backend forest`` writes a forest file that load_classifier reads, with its command."""
+    pytest.importorskip('sklearn')
+    hugadb = shared_data_dir() / 'hugadb'
+    out = tmp_path / 'forest.json'
+    assert main(['train', *SMALL_RUN, '--hugadb', str(hugadb), '--backend', 'forest',
+                 '--trees', '10', '--out', str(out), '--cache-dir', str(tmp_path)]) == 0
+    model = load_classifier(out)
+    assert isinstance(model, Forest) and len(model.roots) == 10
+    assert '--backend forest --trees 10' in model.metadata_['command']
+    assert model.metadata_['training']['forest']['n_trees'] == 10
+    assert model.metadata_['mode_threshold'] in train.THRESHOLD_GRID
+
+
 # ----------------------------------------------------------------------------- default model
 
 @pytest.fixture(scope='module')
@@ -289,7 +305,7 @@ def default_model():
 def test_default_model_records_its_command_and_is_current(default_model):
     meta = default_model.metadata_
     assert meta['command'] == train.DEFAULT_COMMAND
-    assert meta['feature_names'] == list(FEATURE_NAMES)
+    assert meta['feature_names'] == list(PATENT_FEATURE_NAMES)
     assert meta['mode_threshold'] in train.THRESHOLD_GRID
     assert meta['data']['sim_seeds'] == list(range(1, 41))
     assert meta['cv']['scheme'] == 'subject'

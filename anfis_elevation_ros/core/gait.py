@@ -30,6 +30,11 @@ where theta is the inclination of the foot's forward axis above the horizontal (
 positive), so the pitch is relative to the stance attitude and a tilted mounting cannot bias
 it. The foot's forward axis in the IMU frame comes from a mounting rotation, or (automatic
 mode) from the direction of the first strides.
+
+After these five, every cycle carries the eleven motion features of ``core/motion_features.py``
+(specific force, angular rate and horizontal speed over the same samples, in the foot frame):
+:data:`FEATURE_NAMES` lists all sixteen. Code reads a feature by its name
+(:func:`feature_index`), never by a raw position.
 """
 
 from dataclasses import dataclass
@@ -38,10 +43,33 @@ import math
 import numpy as np
 
 from .errors import InputError
+from .motion_features import foot_frame, MOTION_FEATURE_NAMES, motion_features
 
-N_FEATURES = 5
-FEATURE_NAMES = ('mean_height_m', 'std_height_m', 'height_change_m', 'max_abs_height_m',
-                 'max_pitch_rad')
+PATENT_FEATURE_NAMES = ('mean_height_m', 'std_height_m', 'height_change_m', 'max_abs_height_m',
+                        'max_pitch_rad')
+"""Eq. (8)-(12), the ANFIS inputs of the patent."""
+FEATURE_NAMES = PATENT_FEATURE_NAMES + MOTION_FEATURE_NAMES
+"""Every feature of a gait cycle, in ``GaitCycle.features`` order."""
+N_FEATURES = len(FEATURE_NAMES)
+
+
+def feature_index(names) -> np.ndarray:
+    """
+    Positions of named features in :data:`FEATURE_NAMES` (for column selection).
+
+    Raises
+    ------
+    InputError : a name that is not a gait-cycle feature.
+
+    """
+    unknown = [name for name in names if name not in FEATURE_NAMES]
+    if unknown:
+        raise InputError(f'unknown gait-cycle feature(s) {unknown}; known: '
+                         f'{", ".join(FEATURE_NAMES)}')
+    return np.array([FEATURE_NAMES.index(name) for name in names], dtype=np.int64)
+
+
+HEIGHT_CHANGE = FEATURE_NAMES.index('height_change_m')
 
 
 @dataclass(frozen=True)
@@ -84,7 +112,7 @@ class GaitCycle:
     stamp_ns : stamp of the first stance sample that closes the cycle.
     start_stamp_ns : stamp of the last stance sample before the swing.
     pos_n : (3,) EKF-corrected position at the closing sample, m, ENU.
-    features : (5,) eq. (8)-(12), in FEATURE_NAMES order (m, m, m, m, rad).
+    features : (16,) eq. (8)-(12) and the motion features, in FEATURE_NAMES order.
     valid : False when the swing was too long or had a gap in its samples; such a cycle's
         features describe no stride and are not classified.
 
@@ -99,7 +127,7 @@ class GaitCycle:
     @property
     def height_change_m(self) -> float:
         """Raw EKF height change over the cycle, eq. (10)."""
-        return float(self.features[2])
+        return float(self.features[HEIGHT_CHANGE])
 
 
 def height_features(height_m: np.ndarray) -> np.ndarray:
@@ -210,10 +238,11 @@ class GaitSegmenter:
         self._stance_C_nb = None
         self._heights = []
         self._up_b = []
+        self._motion = []
         self._gap = False
 
     def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
-               gap: bool = False):
+               acc_b: np.ndarray, gyr_b: np.ndarray, vel_n: np.ndarray, gap: bool = False):
         """
         Add one navigated sample; return the GaitCycle it closes, or None.
 
@@ -227,6 +256,10 @@ class GaitSegmenter:
             Corrected position, m.
         C_nb : (3, 3) array
             Corrected attitude.
+        acc_b, gyr_b : (3,) arrays
+            The sample's specific force (m/s^2) and angular rate (rad/s).
+        vel_n : (3,) array
+            Corrected velocity, m/s.
         gap : bool
             True when samples are missing before this one.
 
@@ -240,11 +273,13 @@ class GaitSegmenter:
             self._in_swing = True
             self._heights.clear()
             self._up_b.clear()
+            self._motion.clear()
             self._gap = False
         self._gap = self._gap or gap
         if len(self._heights) < self._max_samples:
             self._heights.append(pos_n[2] - self._stance_pos_n[2])
             self._up_b.append(C_nb[2, :])
+            self._motion.append(np.concatenate((acc_b, gyr_b, vel_n)))
         if not stance:
             return None
         self._in_swing = False
@@ -266,5 +301,13 @@ class GaitSegmenter:
             forward_b = np.eye(3)[int(np.argmin(np.abs(up_b)))]
         features[4] = max_relative_pitch(np.asarray(self._up_b), self._stance_C_nb[2, :],
                                          forward_b)
+        if abs(forward_b @ self._stance_C_nb[2, :]) > 0.99:
+            # A given forward axis all but vertical at this stance (a foot on a ladder) spans
+            # no foot frame: the stance's most horizontal body axis stands in.
+            forward_b = np.eye(3)[int(np.argmin(np.abs(self._stance_C_nb[2, :])))]
+        motion = np.asarray(self._motion)
+        features[len(PATENT_FEATURE_NAMES):] = motion_features(
+            motion[:, 0:3], motion[:, 3:6], motion[:, 6:9],
+            foot_frame(self._stance_C_nb[2, :], forward_b))
         valid = swing_s <= self._params.max_swing_s and not self._gap
         return GaitCycle(stamp_ns, self._stance_stamp_ns, pos_n.copy(), features, valid)

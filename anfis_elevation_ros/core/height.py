@@ -15,8 +15,9 @@
 """
 Stair mode, quantised height and floor per gait cycle: method steps S7-S8 (eq. 13-14).
 
-For every gait cycle the navigator delivers five features (eq. 8-12, order :data:`FEATURE_NAMES`,
-heights relative to the stance height at the cycle start). The ANFIS maps them to one number y;
+For every gait cycle the navigator delivers its features (eq. 8-12 and the motion features,
+order :data:`FEATURE_NAMES`, heights relative to the stance height at the cycle start). The stair
+classifier (ANFIS or forest, ``core/classifier.py``) maps them to one number y;
 :func:`stair_mode` turns y into the cycle's mode C (eq. 13: up +1, level 0, down -1),
 :func:`quantised_height_step` turns the cycle's raw height change into a whole number of stair
 steps of height K (eq. 14), and :func:`floor_index` turns the accumulated height into a floor.
@@ -53,6 +54,7 @@ from typing import Optional
 
 import numpy as np
 
+from .classifier import as_classifier
 from .errors import InputError
 from .gait import FEATURE_NAMES
 
@@ -328,9 +330,9 @@ class ElevationTracker:
 
     Parameters
     ----------
-    model : Anfis or object with predict
-        The trained ANFIS (:class:`~anfis_elevation_ros.core.anfis.Anfis`) or any object whose
-        ``predict`` maps a (1, 5) feature array to a (1,) array.
+    model : StairClassifier, Anfis or object with predict
+        A stair classifier (``core/classifier.py``; a bare ANFIS of eq. (8)-(12) is wrapped) or
+        any object whose ``predict`` maps a (1, N_FEATURES) feature array to a (1,) array.
     params : ElevationParams
         Step height, mode threshold, storey height, start floor and height.
     height_m : float or None
@@ -339,6 +341,7 @@ class ElevationTracker:
     """
 
     def __init__(self, model, params: ElevationParams, height_m: Optional[float] = None):
+        model = as_classifier(model)
         n_inputs = getattr(model, 'n_inputs', len(FEATURE_NAMES))
         if n_inputs != len(FEATURE_NAMES) or not callable(getattr(model, 'predict', None)):
             raise ValueError(f'model must have predict() and {len(FEATURE_NAMES)} inputs '
@@ -401,8 +404,8 @@ class ElevationTracker:
         ----------
         stamp_ns : int
             Stamp of the cycle, ns.
-        features : (5,) array
-            In the order of :data:`FEATURE_NAMES` (m, m, m, m, rad); ignored when not valid.
+        features : (N_FEATURES,) array
+            In the order of :data:`FEATURE_NAMES`; ignored when not valid.
         x_m, y_m : float
             Horizontal position in the navigation frame n, m.
         valid : bool
@@ -417,8 +420,8 @@ class ElevationTracker:
 
         Raises
         ------
-        InputError : features of a valid cycle not of shape (5,) or not finite, or x_m / y_m
-            not finite; the tracker state is left unchanged.
+        InputError : features of a valid cycle not of shape (N_FEATURES,) or not finite, or
+            x_m / y_m not finite; the tracker state is left unchanged.
 
         """
         try:

@@ -360,7 +360,8 @@ class FootNavigator:
             self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state, i.counts)
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
         self._gait = GaitSegmenter(p.gait, self._status.rate_hz, MountingEstimator(p.gait, C_fb))
-        self._gait.update(stamp_ns, True, self._nominal[POS_N].copy(), self._C_nb.copy())
+        self._gait.update(stamp_ns, True, self._nominal[POS_N].copy(), self._C_nb.copy(),
+                          acc_b, gyr_b, self._nominal[VEL_N])
         if self._map is not None:
             self._map.start(self._nominal[POS_N])
         self._status.initialised = True
@@ -452,7 +453,8 @@ class FootNavigator:
         stance = flags & 1 == 1
         pos_n = self._nominal[POS_N].copy()
         # S4, eq. (8)-(12): gait cycles from the corrected track.
-        cycle = self._gait.update(stamp_ns, stance, pos_n, self._C_nb.copy(), flags & 2 == 2)
+        cycle = self._gait.update(stamp_ns, stance, pos_n, self._C_nb.copy(), acc_b, gyr_b,
+                                  self._nominal[VEL_N], flags & 2 == 2)
         if cycle is not None:
             status.cycles += 1
             status.invalid_cycles += not cycle.valid

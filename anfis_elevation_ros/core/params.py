@@ -897,32 +897,26 @@ def model_file(model_path: str = '') -> Path:
 
 def load_model(model_path: str = ''):
     """
-    Load the ANFIS stair-mode model a ``model_path`` parameter names.
+    Load the stair classifier a ``model_path`` parameter names.
 
     Parameters
     ----------
     model_path : str
-        Path of a model JSON file; '' loads the packaged ``config/anfis_default.json``.
+        Path of a model JSON file (ANFIS or forest, ``core/classifier.py``); '' loads the
+        packaged default.
 
     Returns
     -------
-    Anfis with 5 inputs (the gait features).
+    StairClassifier.
 
     Raises
     ------
-    InputError : no such file, unreadable or corrupt model, or a model with another number of
-        inputs.
+    InputError : no such file, unreadable or corrupt model, a model of unknown features.
 
     """
-    from .anfis import Anfis
-    from .gait import FEATURE_NAMES
+    from .classifier import load_classifier
 
-    path = model_file(model_path)
-    model = Anfis.load(path)
-    if model.n_inputs != len(FEATURE_NAMES):
-        raise InputError(f'{path}: the model has {model.n_inputs} inputs; the stair-mode '
-                         f'classifier needs {len(FEATURE_NAMES)} ({", ".join(FEATURE_NAMES)})')
-    return model
+    return load_classifier(model_file(model_path))
 
 
 # -- config/params.yaml -----------------------------------------------------------------------

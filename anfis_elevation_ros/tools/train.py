@@ -13,7 +13,12 @@
 # limitations under the License.
 
 """
-``train`` subcommand: the stair-mode ANFIS from labelled gait cycles, cross-validated.
+``train`` subcommand: the stair classifier from labelled gait cycles, cross-validated.
+
+``--backend anfis`` (default) fits the patent's ANFIS on eq. (8)-(12); ``--backend forest``
+grows seed 001's random forest on the motion features (``tools/train_forest.py``, needs
+scikit-learn). Both go through the same labels, folds, sigma_th choice and model metadata, and
+``core/classifier.py`` loads either by the model file's ``format``.
 
 Every recording goes through ``FootNavigator`` -- the pipeline the IMU node runs -- and each
 valid gait cycle it closes gets a label (eq. 13 mode: +1 up, 0 level, -1 down):
@@ -82,10 +87,12 @@ import numpy as np
 from . import labels as lab
 from .metrics import confusion_matrix
 from .replay import navigated_samples
+from .train_forest import ForestOptions, fit_forest
 from .. import sim
 from ..core.anfis import Anfis
+from ..core.classifier import AnfisClassifier, BACKENDS
 from ..core.errors import InputError
-from ..core.gait import FEATURE_NAMES
+from ..core.gait import feature_index, N_FEATURES, PATENT_FEATURE_NAMES
 from ..core.height import stair_mode
 from ..core.input_gate import GateParams, InputGate
 from ..core.navigator import FootNavigator, NavigatorParams
@@ -179,7 +186,7 @@ class NavigatedRecording:
 
     Attributes
     ----------
-    features : (N, 5) array, eq. 8-12 of every cycle, FEATURE_NAMES order.
+    features : (N, N_FEATURES) array, every feature of every cycle, FEATURE_NAMES order.
     start_ns, stamp_ns : (N,) int64, start and closing stamps of the cycles.
     valid : (N,) bool, the navigator's validity flag.
     n_samples : int, IMU samples in the recording.
@@ -229,7 +236,7 @@ class CycleSet:
     subject : subject key for leave-one-subject-out ('hugadb/s01', 'bag/<name>', 'sim/seed3').
     recording : recording key for leave-one-recording-out (both feet of a HuGaDB file share
         one).
-    features : (n, 5) array, the labelled valid cycles.
+    features : (n, N_FEATURES) array, the labelled valid cycles.
     labels : (n,) int8, their modes.
     non_stride : (n,) bool, cycles labelled level by the non-stride rule.
     counts : dict, samples, cycles, invalid, unlabelled, non_stride, used.
@@ -323,15 +330,15 @@ def navigate(recording, pipeline: Pipeline):
 
     Returns
     -------
-    features : (N, 5) array, start_ns : (N,) int64, stamp_ns : (N,) int64, valid : (N,) bool,
-    rejected : int (samples the gate refused)
+    features : (N, N_FEATURES) array, start_ns : (N,) int64, stamp_ns : (N,) int64,
+    valid : (N,) bool, rejected : int (samples the gate refused)
 
     """
     gate = InputGate(pipeline.gate)
     navigator = FootNavigator(pipeline.navigator)
     cycles = [cycle for _, _, cycle in navigated_samples(recording, gate, navigator)
               if cycle is not None]
-    features = np.array([c.features for c in cycles], dtype=float).reshape(-1, 5)
+    features = np.array([c.features for c in cycles], dtype=float).reshape(-1, N_FEATURES)
     start_ns = np.array([c.start_stamp_ns for c in cycles], dtype=np.int64)
     stamp_ns = np.array([c.stamp_ns for c in cycles], dtype=np.int64)
     valid = np.array([c.valid for c in cycles], dtype=bool)
@@ -704,7 +711,7 @@ def collect(specs, pipeline: Pipeline, rules: LabelRules, cache_dir=None, jobs: 
 @dataclass(frozen=True)
 class TrainOptions:
     """
-    ANFIS training settings.
+    Classifier training settings: the backend, the ANFIS settings, the forest's.
 
     Notes
     -----
@@ -731,8 +738,12 @@ class TrainOptions:
     epochs: int = DEFAULT_EPOCHS
     ridge: float = DEFAULT_TRAIN_RIDGE
     range_quantile: float = DEFAULT_RANGE_QUANTILE
+    backend: str = 'anfis'
+    forest: ForestOptions = ForestOptions()
 
     def __post_init__(self):
+        if self.backend not in BACKENDS:
+            raise InputError(f'backend {self.backend!r} is not one of {sorted(BACKENDS)}')
         if not 1 <= self.epochs <= 1000:
             raise InputError(f'epochs = {self.epochs} is outside [1, 1000]')
         if not 0.0 <= self.range_quantile < 0.5:
@@ -765,16 +776,26 @@ def input_universe(features: np.ndarray, quantile: float) -> np.ndarray:
     hi = np.quantile(features, 1.0 - quantile, axis=0, method='linear')
     flat = ~(hi > lo)
     if np.any(flat):
-        raise InputError(f'features {[FEATURE_NAMES[i] for i in np.flatnonzero(flat)]} do not '
-                         'vary in the training data; add recordings')
+        names = [PATENT_FEATURE_NAMES[i] for i in np.flatnonzero(flat)]
+        raise InputError(f'features {names} do not vary in the training data; add recordings')
     return np.stack((lo, hi), axis=1)
 
 
-def fit_model(features: np.ndarray, labels: np.ndarray, options: TrainOptions) -> Anfis:
-    """Fit the stair-mode ANFIS: targets are the modes -1 / 0 / +1 (no checking data)."""
-    model = Anfis(len(FEATURE_NAMES), options.n_mfs, options.mf)
-    return model.fit(features, labels.astype(float), epochs=options.epochs, ridge=options.ridge,
-                     input_range=input_universe(features, options.range_quantile))
+def fit_model(features: np.ndarray, labels: np.ndarray, options: TrainOptions):
+    """
+    Fit the stair classifier of ``options.backend`` on labelled cycles (modes -1 / 0 / +1).
+
+    ANFIS: on eq. (8)-(12), targets the modes; forest: :func:`.train_forest.fit_forest`.
+    ``features`` are whole cycle feature vectors, (N, N_FEATURES); returns an AnfisClassifier
+    or a Forest.
+    """
+    if options.backend == 'forest':
+        return fit_forest(features, labels, options.forest)
+    x = features[:, feature_index(PATENT_FEATURE_NAMES)]
+    model = Anfis(len(PATENT_FEATURE_NAMES), options.n_mfs, options.mf)
+    model.fit(x, labels.astype(float), epochs=options.epochs, ridge=options.ridge,
+              input_range=input_universe(x, options.range_quantile))
+    return AnfisClassifier(model, PATENT_FEATURE_NAMES)
 
 
 def assign_folds(sets: list, scheme: str, max_folds: int = 0, seed: int = 0):
@@ -839,8 +860,8 @@ def assign_folds(sets: list, scheme: str, max_folds: int = 0, seed: int = 0):
 
 
 def stack(sets: list):
-    """Concatenate the cycles of several sets: features (N, 5), labels (N,), set index (N,)."""
-    features = np.concatenate([s.features for s in sets]).reshape(-1, len(FEATURE_NAMES))
+    """Concatenate the cycles of several sets: features (N, N_FEATURES), labels, set index."""
+    features = np.concatenate([s.features for s in sets]).reshape(-1, N_FEATURES)
     labels = np.concatenate([s.labels for s in sets]).astype(np.int64)
     owner = np.concatenate([np.full(len(s.labels), i, dtype=np.int64)
                             for i, s in enumerate(sets)])
@@ -1040,7 +1061,8 @@ def parse_int_list(text: str) -> list:
 def add_parser(subparsers):
     """Register the ``train`` subcommand."""
     parser = subparsers.add_parser(
-        'train', help='train the stair-mode ANFIS from labelled cycles, cross-validated',
+        'train', help='train the stair classifier (ANFIS or forest) from labelled cycles, '
+        'cross-validated',
         description=__doc__.strip().split('\n\n')[0] + f' Default model: {DEFAULT_COMMAND}',
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     data = parser.add_argument_group('data')
@@ -1072,6 +1094,18 @@ def add_parser(subparsers):
     rules.add_argument('--min-stride-s', type=float, default=DEFAULT_MIN_STRIDE_S,
                        help='shorter swings are no stride and are labelled level (0: off)')
     fit = parser.add_argument_group('training')
+    fit.add_argument('--backend', choices=sorted(BACKENDS), default='anfis',
+                     help="stair classifier: the patent's ANFIS or seed 001's random forest "
+                     '(needs scikit-learn to train)')
+    fit.add_argument('--trees', type=int, default=ForestOptions.n_trees,
+                     help='forest: number of trees')
+    fit.add_argument('--max-features', type=float, default=ForestOptions.max_features,
+                     help='forest: share of the features tried at each split')
+    fit.add_argument('--min-samples-leaf', type=int, default=ForestOptions.min_samples_leaf,
+                     help='forest: fewest training cycles at a leaf')
+    fit.add_argument('--class-weight', choices=('balanced', 'none'),
+                     default=ForestOptions.class_weight,
+                     help='forest: weight each mode by the inverse of its share, or not')
     fit.add_argument('--cv', choices=('subject', 'recording', 'none'), default='subject',
                      help='cross-validation: leave one subject out, one recording out, or none')
     fit.add_argument('--folds', type=int, default=0,
@@ -1141,7 +1175,10 @@ def run_train(args) -> int:
         raise InputError(f'--threshold {args.threshold} is outside [0, 1]')
     rules = LabelRules(args.match_tolerance_s, args.min_majority, args.min_stride_s)
     options = TrainOptions(epochs=args.epochs, ridge=args.ridge,
-                           range_quantile=args.range_quantile)
+                           range_quantile=args.range_quantile, backend=args.backend,
+                           forest=ForestOptions(args.trees, args.max_features,
+                                                args.min_samples_leaf, args.class_weight,
+                                                args.seed))
     pipeline = pipeline_from_yaml(args.params)
     specs = _specs_from_args(args)
     progress.log(f'{len(specs)} recordings: {len(args.sim_seeds)} simulated, '
@@ -1181,7 +1218,7 @@ def run_train(args) -> int:
         'mode_threshold': threshold,
         'mode_threshold_source': 'cv_best' if cv and args.threshold is None else (
             'given' if args.threshold is not None else 'default'),
-        'feature_names': list(FEATURE_NAMES),
+        'feature_names': list(model.feature_names),
         'targets': {'down': -1, 'level': 0, 'up': 1},
         'data': {
             'sim_seeds': args.sim_seeds,

@@ -1,0 +1,94 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Grow the random-forest stair classifier (``train --backend forest``) with scikit-learn.
+
+Seed 001's scene classifier: ``sklearn.ensemble.RandomForestClassifier`` -- bootstrap samples
+of the training cycles, each split on the best of a random subset of the features -- on eleven
+motion features and the height change (:data:`FOREST_FEATURE_NAMES`), labels down / level / up
+(-1 / 0 / +1). The fitted forest is converted to arrays (:class:`~..core.forest.Forest`) and
+stored as JSON; inference needs no scikit-learn. scikit-learn is only needed here: install the
+``train`` extra (``pip install .[train]``).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.errors import InputError
+from ..core.forest import Forest
+from ..core.gait import feature_index
+from ..core.motion_features import MOTION_FEATURE_NAMES
+
+FOREST_FEATURE_NAMES = MOTION_FEATURE_NAMES + ('height_change_m',)
+"""Seed 001's twelve per-cycle features."""
+
+
+@dataclass(frozen=True)
+class ForestOptions:
+    """
+    Random-forest settings (``RandomForestClassifier`` arguments of the same name).
+
+    ``max_features``: features tried at each split, as a fraction of the twelve.
+    ``class_weight``: 'balanced' weights each mode by the inverse of its share of the cycles;
+    'none' leaves the (level-heavy) mix as it is. ``seed``: of the bootstrap and the subsets.
+    """
+
+    n_trees: int = 100
+    max_features: float = 0.5
+    min_samples_leaf: int = 2
+    class_weight: str = 'balanced'
+    seed: int = 0
+
+    def __post_init__(self):
+        if not 1 <= self.n_trees <= 1000:
+            raise InputError(f'forest n_trees = {self.n_trees} is outside [1, 1000]')
+        if not 0.0 < self.max_features <= 1.0:
+            raise InputError(f'forest max_features = {self.max_features} is outside (0, 1]')
+        if not 1 <= self.min_samples_leaf <= 1000:
+            raise InputError(f'forest min_samples_leaf = {self.min_samples_leaf} is outside '
+                             '[1, 1000]')
+        if self.class_weight not in ('balanced', 'none'):
+            raise InputError(f"forest class_weight = {self.class_weight!r} is not 'balanced' or "
+                             "'none'")
+
+
+def fit_forest(features: np.ndarray, labels: np.ndarray, options: ForestOptions) -> Forest:
+    """
+    Fit the forest on whole cycle feature vectors (N, N_FEATURES) and modes -1 / 0 / +1.
+
+    Raises
+    ------
+    InputError : scikit-learn is not installed, or the labels hold a single mode.
+
+    """
+    try:
+        from sklearn.ensemble import RandomForestClassifier
+    except ImportError:
+        raise InputError('training a forest needs scikit-learn: pip install '
+                         '"anfis_elevation_ros[train]" (scikit-learn==1.9.1)') from None
+    if len(np.unique(labels)) < 2:
+        raise InputError(f'the forest needs cycles of two modes or more, got only '
+                         f'{np.unique(labels).tolist()}')
+    estimator = RandomForestClassifier(
+        n_estimators=options.n_trees, max_features=options.max_features,
+        min_samples_leaf=options.min_samples_leaf,
+        class_weight=None if options.class_weight == 'none' else options.class_weight,
+        random_state=options.seed, n_jobs=1)
+    estimator.fit(features[:, feature_index(FOREST_FEATURE_NAMES)], labels)
+    return Forest.from_sklearn(estimator, FOREST_FEATURE_NAMES)
+
+
+__all__ = ['FOREST_FEATURE_NAMES', 'ForestOptions', 'fit_forest']
