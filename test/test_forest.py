@@ -23,8 +23,8 @@ from anfis_elevation_ros.core.classifier import AnfisClassifier, load_classifier
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.forest import Forest
 from anfis_elevation_ros.core.gait import feature_index, N_FEATURES, PATENT_FEATURE_NAMES
-from anfis_elevation_ros.tools.train_forest import FOREST_FEATURE_NAMES, ForestOptions, \
-    fit_forest
+from anfis_elevation_ros.tools.train_forest import fit_forest, FOREST_FEATURE_NAMES, \
+    ForestOptions
 import numpy as np
 import pytest
 
@@ -41,7 +41,7 @@ def three_modes(n, seed):
 
 @pytest.fixture(scope='module')
 def trained():
-    """A small forest grown by scikit-learn, and the estimator itself."""
+    """Grow a small forest with scikit-learn; return the estimator and its Forest."""
     sklearn_ensemble = pytest.importorskip('sklearn.ensemble')
     features, labels = three_modes(600, 1)
     estimator = sklearn_ensemble.RandomForestClassifier(n_estimators=15, max_features=0.5,
@@ -101,8 +101,8 @@ def test_a_damaged_forest_file_is_refused(trained, tmp_path, damage):
 
 
 def test_forest_arrays_that_loop_or_point_outside_are_refused():
-    leaf = dict(feature=[0, -1, -1], threshold=[0.5, 0.0, 0.0], value=[[0.2, 0.6, 0.2],
-                [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    leaf = {'feature': [0, -1, -1], 'threshold': [0.5, 0.0, 0.0],
+            'value': [[0.2, 0.6, 0.2], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]}
     Forest(['height_change_m'], [0], left=[1, -1, -1], right=[2, -1, -1], **leaf)
     for left in ([0, -1, -1], [3, -1, -1]):              # a cycle, a node past the end
         with pytest.raises(ValueError, match='later node'):

@@ -25,8 +25,8 @@ from pathlib import Path
 
 from anfis_elevation_ros import sim
 from anfis_elevation_ros.core.anfis import Anfis
-from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.classifier import load_classifier
+from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.forest import Forest
 from anfis_elevation_ros.core.gait import N_FEATURES, PATENT_FEATURE_NAMES
 from anfis_elevation_ros.core.height import ElevationParams, stair_mode

@@ -87,7 +87,7 @@ import numpy as np
 from . import labels as lab
 from .metrics import confusion_matrix
 from .replay import navigated_samples
-from .train_forest import ForestOptions, fit_forest
+from .train_forest import fit_forest, ForestOptions
 from .. import sim
 from ..core.anfis import Anfis
 from ..core.classifier import AnfisClassifier, BACKENDS

@@ -1,0 +1,87 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Benchmark of both stair classifiers: training time and per-cycle inference (a script).
+
+Run from the repository root: ``python test/benchmarks/bench_forest.py`` (``--cycles``,
+``--trees``; needs scikit-learn, the ``train`` extra, and ``../shared/data/hugadb`` or
+``ANFIS_SHARED_DATA``). The training cycles are the HuGaDB cycles of every subject through the
+navigator (feature cache of ``train``), repeated with 1 % noise up to ``--cycles``. Targets:
+the forest (default ``ForestOptions``) trained on 10,000 cycles in <= 10 s, inference of one
+cycle at a time (as the classifier node calls it) <= 50 us for both backends. Prints the
+figures and exits 1 if a target is missed. Times are the best of a few repeats.
+"""
+
+import argparse
+import sys
+import time
+import timeit
+
+from anfis_elevation_ros.tools import train
+from anfis_elevation_ros.tools.datasets import shared_data_dir
+from anfis_elevation_ros.tools.train_forest import ForestOptions
+import numpy as np
+
+TRAIN_TARGET_S = 10.0
+INFERENCE_TARGET_US = 50.0
+
+
+def training_cycles(n_cycles: int, seed: int):
+    """Return HuGaDB cycles (all subjects) repeated with 1 % noise up to ``n_cycles``."""
+    specs = train.hugadb_specs(shared_data_dir() / 'hugadb')
+    sets = train.collect(specs, train.Pipeline(), train.LabelRules(), train.default_cache_dir())
+    features, labels, _ = train.stack([s for s in sets if len(s.labels)])
+    rng = np.random.default_rng(seed)
+    pick = rng.integers(0, len(labels), n_cycles)
+    noise = 1.0 + 0.01 * rng.standard_normal((n_cycles, features.shape[1]))
+    return features[pick] * noise, labels[pick], len(labels)
+
+
+def per_cycle_us(model, features: np.ndarray) -> float:
+    """Best-of-5 mean time of ``model.predict`` on one (1, N_FEATURES) cycle at a time, us."""
+    rows = [features[i:i + 1] for i in range(min(len(features), 2000))]
+    model.predict(rows[0])                                     # compile / warm up
+    best = min(timeit.repeat(lambda: [model.predict(r) for r in rows], number=1, repeat=5))
+    return 1e6 * best / len(rows)
+
+
+def main(argv=None) -> int:
+    """Run the benchmark; return 1 when a target is missed."""
+    parser = argparse.ArgumentParser(description=__doc__.strip().split('\n\n')[0])
+    parser.add_argument('--cycles', type=int, default=10_000)
+    parser.add_argument('--trees', type=int, default=ForestOptions.n_trees)
+    parser.add_argument('--seed', type=int, default=0)
+    args = parser.parse_args(argv)
+    features, labels, real = training_cycles(args.cycles, args.seed)
+    print(f'{args.cycles} training cycles drawn from {real} HuGaDB cycles')
+    timings = {}
+    for backend in ('forest', 'anfis'):
+        options = train.TrainOptions(backend=backend, forest=ForestOptions(n_trees=args.trees))
+        started = time.perf_counter()
+        model = train.fit_model(features, labels, options)
+        timings[backend] = (time.perf_counter() - started, per_cycle_us(model, features))
+        print(f'{backend}: training {timings[backend][0]:.2f} s, inference '
+              f'{timings[backend][1]:.1f} us per cycle')
+    missed = []
+    if timings['forest'][0] > TRAIN_TARGET_S:
+        missed.append(f'forest training {timings["forest"][0]:.2f} s > {TRAIN_TARGET_S} s')
+    missed += [f'{backend} inference {us:.1f} us > {INFERENCE_TARGET_US} us'
+               for backend, (_, us) in timings.items() if us > INFERENCE_TARGET_US]
+    print('targets met' if not missed else 'MISSED: ' + '; '.join(missed))
+    return 1 if missed else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
