@@ -36,6 +36,7 @@ import argparse
 import json
 import math
 from pathlib import Path
+import signal
 import sys
 import threading
 import time
@@ -49,6 +50,8 @@ TICK_EVERY = 3              # timers at POSE_HZ / 3 (about 3 Hz)
 STILL = 2                   # responders that stand still (man-down alarm)
 WARM_UP_S = 20.0
 SAMPLE_S = 10.0
+BIN_S = 0.001               # latency histogram: fixed memory however long the run
+MAX_LATENCY_S = 30.0
 TOKEN = 'benchmark-token-0123456789'
 
 
@@ -58,6 +61,32 @@ def rss_mb() -> float:
         if line.startswith('VmRSS:'):
             return int(line.split()[1]) / 1024.0
     return math.nan
+
+
+class LatencyHistogram:
+    """Counts of latencies in BIN_S bins (the last one: MAX_LATENCY_S and over)."""
+
+    def __init__(self):
+        self.counts = np.zeros(int(MAX_LATENCY_S / BIN_S) + 1, dtype=np.int64)
+        self.max_s = 0.0
+
+    def add(self, latencies_s) -> None:
+        """Count a batch of latencies, s."""
+        values = np.asarray(latencies_s, dtype=float)
+        if values.size:
+            bins = np.clip((values / BIN_S).astype(int), 0, self.counts.size - 1)
+            np.add.at(self.counts, bins, 1)
+            self.max_s = max(self.max_s, float(values.max()))
+
+    @property
+    def size(self) -> int:
+        """Return the number of latencies counted."""
+        return int(self.counts.sum())
+
+    def percentile(self, q: float) -> float:
+        """Return the upper edge of the bin holding the q-th percentile, s."""
+        rank = np.searchsorted(np.cumsum(self.counts), q / 100.0 * self.size)
+        return (rank + 1) * BIN_S
 
 
 def feed(incident, responders: int, stop: threading.Event) -> None:
@@ -109,14 +138,19 @@ def main():
     feeder = threading.Thread(target=feed, args=(incident, args.responders, stop), daemon=True)
     feeder.start()
     driver, profile = start_chromium()
-    latencies, samples = [], []
+    latencies, samples = LatencyHistogram(), []
+    signal.signal(signal.SIGTERM, signal.default_int_handler)   # stop early, still report
     try:
         driver.get(server.url)
         start = time.monotonic()
         end = start + 60.0 * args.minutes
         cpu0 = wall0 = None
         while time.monotonic() < end:
-            time.sleep(SAMPLE_S)
+            try:
+                time.sleep(SAMPLE_S)
+            except KeyboardInterrupt:
+                print('stopped early', flush=True)
+                break
             now = time.monotonic()
             batch = driver.execute_script('return window.commandCentre.latencies.splice(0);')
             if now - start < WARM_UP_S:
@@ -124,12 +158,12 @@ def main():
             if cpu0 is None:
                 cpu0, wall0 = time.process_time(), now
                 continue
-            latencies.extend(batch)
+            latencies.add(batch)
             cpu = 100.0 * (time.process_time() - cpu0) / (now - wall0)
             samples.append({'t_s': round(now - start), 'rss_mb': round(rss_mb(), 1),
                             'cpu_percent_so_far': round(cpu, 1)})
             print(f't {now - start:6.0f} s  RSS {samples[-1]["rss_mb"]:7.1f} MB  CPU '
-                  f'{cpu:5.1f} % of one core  updates seen {len(latencies)}', flush=True)
+                  f'{cpu:5.1f} % of one core  updates seen {latencies.size}', flush=True)
         renders, batches, render_s = driver.execute_script(
             'const p = window.commandCentre; return [p.renders, p.batches, p.renderSeconds];')
         roster_rows = driver.execute_script(
@@ -140,15 +174,15 @@ def main():
         feeder.join(5)
         server.shutdown()
         server.server_close()
-    if not latencies or not samples:
+    if not latencies.size or not samples:
         sys.exit('no measurement: run longer than the warm-up (--minutes)')
-    lat = np.array(latencies)
+    lat = latencies
     rss = [s['rss_mb'] for s in samples]
     figures = {
         'responders': args.responders, 'minutes': args.minutes,
         'cpu_percent_of_one_core': samples[-1]['cpu_percent_so_far'],
-        'latency_s': {'p50': float(np.percentile(lat, 50)), 'p99': float(np.percentile(lat, 99)),
-                      'max': float(lat.max()), 'updates': int(lat.size)},
+        'latency_s': {'p50': lat.percentile(50), 'p99': lat.percentile(99), 'max': lat.max_s,
+                      'updates': lat.size},
         'rss_mb': {'first': rss[0], 'last': rss[-1], 'max': max(rss)},
         'page': {'renders': renders, 'batches': batches,
                  'mean_render_ms': round(1000.0 * render_s / max(renders, 1), 1)},
