@@ -83,12 +83,20 @@ def cli_env() -> dict:
 
 
 def truth_floors(strides_csv=SAMPLE_STRIDES):
-    """Return (final floor, highest floor) of a strides.csv truth."""
-    from anfis_elevation_ros.core.height import floor_index
+    """
+    Return (final floor, highest floor) of a strides.csv truth, by the nodes' settle rule.
 
-    heights = np.genfromtxt(strides_csv, delimiter=',', names=True)['height_m']
-    floors = floor_index(heights, FLOOR_HEIGHT_M)
-    return int(floors[-1]), int(floors.max())
+    The floor changes only when the height settles on one (``core/floors.py``). The sample
+    walk's 2.38 m climb is no 3 m storey: its highest floor depends on how many cycles of the
+    turn at the top are classified level (floor 1, uncertain, after 3), so compare it with an
+    offline replay rather than with this.
+    """
+    from anfis_elevation_ros.core.floors import floor_map_for, FloorSettler
+
+    truth = np.genfromtxt(strides_csv, delimiter=',', names=True)
+    settler = FloorSettler(floor_map_for(None, 0, FLOOR_HEIGHT_M), 0.5, 0.0)
+    floors = [settler.update(h, int(m)) for h, m in zip(truth['height_m'], truth['mode'])]
+    return int(floors[-1]), int(max(floors))
 
 
 class BackgroundProcess:

@@ -16,6 +16,7 @@
 
 from anfis_elevation_ros import Anfis
 from anfis_elevation_ros.core.anfis import grid_partition
+from anfis_elevation_ros.core.building import building_from_dict
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.height import (
     bridged_step_count, CycleEstimate, ElevationParams, ElevationTracker, FEATURE_NAMES,
@@ -23,6 +24,10 @@ from anfis_elevation_ros.core.height import (
     stair_mode)
 import numpy as np
 import pytest
+
+
+FIXED_K = {'step_height_sigma_m': 0.0}
+"""Riser height taken as known (no online estimate): eq. 14 as the patent has it."""
 
 
 class ScriptedModel:
@@ -167,7 +172,7 @@ def test_tracker_follows_a_scripted_sequence():
     outputs = [0.9, 0.9, 0.1, -0.8, -0.7, 0.6]
     dh = [0.16, 0.31, 0.02, -0.46, -0.05, 0.14]
     model = ScriptedModel(outputs)
-    tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15))
+    tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15, **FIXED_K))
     estimates = [tracker.update(100 + i, _features(d), float(i), -float(i))
                  for i, d in enumerate(dh)]
     assert [e.mode for e in estimates] == [1, 1, 0, -1, -1, 1]
@@ -175,20 +180,25 @@ def test_tracker_follows_a_scripted_sequence():
     np.testing.assert_allclose([e.height_m for e in estimates],
                                [0.15, 0.45, 0.45, 0.0, -0.15, 0.0], rtol=0.0, atol=1e-12)
     assert estimates[3] == CycleEstimate(stamp_ns=103, mode=-1, height_m=estimates[3].height_m,
-                                         floor=0, x_m=3.0, y_m=-3.0, anfis_output=-0.8)
+                                         floor=0, x_m=3.0, y_m=-3.0, anfis_output=-0.8,
+                                         floor_certain=False, step_height_m=0.15)
     assert estimates[4].height_m == pytest.approx(-0.15, abs=1e-12)
     assert tracker.height_m == estimates[-1].height_m
     assert model.seen[0].shape == (1, len(FEATURE_NAMES))
 
 
-def test_tracker_counts_whole_steps_and_changes_floor():
-    params = ElevationParams(step_height_m=0.15, floor_height_m=3.0, start_floor=2)
-    tracker = ElevationTracker(ScriptedModel([1.0] * 30), params)
-    floors = [tracker.update(i, _features(0.15), 0.0, 0.0).floor for i in range(30)]
-    # 10 steps = 1.50 m exactly half a storey -> floor 3; 29 steps = 4.35 m -> floor 3; 30 -> 4.5.
-    assert floors[8] == 2 and floors[9] == 3 and floors[28] == 3 and floors[29] == 4
-    assert tracker.height_m == 30 * 0.15                      # integer steps: no drift
-    assert tracker.floor == 4
+def test_tracker_counts_whole_steps_and_changes_floor_when_settled():
+    params = ElevationParams(step_height_m=0.15, floor_height_m=3.0, start_floor=2, **FIXED_K)
+    tracker = ElevationTracker(ScriptedModel([1.0] * 20 + [0.0] * 2), params)
+    assert (tracker.floor, tracker.floor_certain) == (2, True)
+    climb = [tracker.update(i, _features(0.15), 0.0, 0.0) for i in range(20)]
+    # On the stairs the floor stays the last settled one, not certain (10 steps = 1.50 m is
+    # half a storey: the method's round(h / H) would flick to floor 3 there).
+    assert {(e.floor, e.floor_certain) for e in climb} == {(2, False)}
+    assert tracker.height_m == 20 * 0.15                      # integer steps: no drift
+    level = tracker.update(20, _features(0.0), 0.0, 0.0)
+    assert (level.floor, level.floor_certain, tracker.floor) == (3, True, 3)
+    assert level.step_height_m == 0.15
 
 
 def test_tracker_with_a_real_anfis_of_known_consequents():
@@ -198,7 +208,7 @@ def test_tracker_with_a_real_anfis_of_known_consequents():
     consequents = np.zeros((243, 6))
     consequents[:, HEIGHT_CHANGE] = 1.0 / 0.17
     model = Anfis.from_params(grid_partition(universe, 3, 'triangle'), consequents, universe)
-    tracker = ElevationTracker(model, ElevationParams())
+    tracker = ElevationTracker(model, ElevationParams(**FIXED_K))
     dh = [0.18, 0.17, 0.05, -0.35, -0.09]
     estimates = [tracker.update(i, _features(d), 0.0, 0.0) for i, d in enumerate(dh)]
     np.testing.assert_allclose([e.anfis_output for e in estimates], np.array(dh) / 0.17,
@@ -224,7 +234,7 @@ def test_tracker_rejects_bad_cycles_and_keeps_its_state():
 
 
 def test_tracker_restores_height_after_a_restart():
-    params = ElevationParams(step_height_m=0.15, start_height_m=0.3)
+    params = ElevationParams(step_height_m=0.15, start_height_m=0.3, **FIXED_K)
     tracker = ElevationTracker(ScriptedModel([1.0, -1.0]), params)
     assert tracker.height_m == 0.3
     resumed = ElevationTracker(ScriptedModel([1.0]), params, height_m=4.2)
@@ -252,7 +262,7 @@ def test_bridged_step_count_table(before, steps, after, lost, expected):
 def test_invalid_cycles_inside_a_flight_are_bridged():
     """Up, two invalid, up: the two lost cycles climbed as the one before (2 steps each)."""
     model = ScriptedModel([0.9, 0.9, 0.1])
-    tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15))
+    tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15, **FIXED_K))
     first = tracker.update(0, _features(0.30), 0.0, 0.0)
     lost = [tracker.update(k, None, 0.0, 0.0, valid=False) for k in (1, 2)]
     assert [e.mode for e in lost] == [0, 0] and all(np.isnan(e.anfis_output) for e in lost)
@@ -266,7 +276,8 @@ def test_invalid_cycles_inside_a_flight_are_bridged():
 
 
 def test_invalid_cycles_at_the_end_of_a_flight_add_nothing():
-    tracker = ElevationTracker(ScriptedModel([0.9, 0.0]), ElevationParams(step_height_m=0.15))
+    tracker = ElevationTracker(ScriptedModel([0.9, 0.0]),
+                               ElevationParams(step_height_m=0.15, **FIXED_K))
     tracker.update(0, _features(0.30), 0.0, 0.0)
     tracker.update(1, None, float('nan'), 0.0, valid=False)     # a lost cycle: no checks
     after = tracker.update(2, _features(0.0), 0.0, 0.0)
@@ -276,11 +287,13 @@ def test_invalid_cycles_at_the_end_of_a_flight_add_nothing():
 
 def test_new_parameters_mid_run_keep_height_and_pending_cycles():
     """A live parameter change between a lost cycle and the next keeps the bridging."""
-    tracker = ElevationTracker(ScriptedModel([0.9] * 6), ElevationParams(step_height_m=0.15))
+    tracker = ElevationTracker(ScriptedModel([0.9] * 6),
+                               ElevationParams(step_height_m=0.15, **FIXED_K))
     for k in range(5):
         tracker.update(k, _features(0.30), 0.0, 0.0)               # 2 steps each: 1.50 m
     tracker.update(5, None, 0.0, 0.0, valid=False)
-    tracker.set_params(ElevationParams(step_height_m=0.17, floor_height_m=2.0, start_floor=3))
+    tracker.set_params(ElevationParams(step_height_m=0.17, floor_height_m=2.0, start_floor=3,
+                                       **FIXED_K))
     assert tracker.height_m == pytest.approx(1.50, abs=1e-12)
     assert tracker.floor == 4                                      # 3 + round(1.50 / 2.0)
     after = tracker.update(6, _features(0.34), 0.0, 0.0)
@@ -290,3 +303,166 @@ def test_new_parameters_mid_run_keep_height_and_pending_cycles():
     assert (tracker.bridged_cycles, tracker.unbridged_cycles) == (1, 0)
     with pytest.raises(ValueError):
         tracker.set_params({'step_height_m': 0.17})
+
+
+# ------------------------------------------------------------------------------ riser height K
+
+TREAD_M = 0.28
+
+
+class Walker:
+    """Feeds a tracker strides of known risers: level strides, stair strides, positions."""
+
+    def __init__(self, tracker, model, rng):
+        self.tracker, self.model, self.rng = tracker, model, rng
+        self.x_m, self.stamp = 0.0, 0
+        self.true_height_m = 0.0
+
+    def stride(self, mode, risers=0, k_m=0.0, length_m=1.4, noise_m=0.004):
+        self.model.outputs.append(float(mode))
+        self.x_m += length_m if mode == 0 else risers * TREAD_M
+        dh_m = mode * risers * k_m + self.rng.normal(0.0, noise_m)
+        self.true_height_m += mode * risers * k_m
+        self.stamp += 1
+        return self.tracker.update(self.stamp, _features(dh_m), self.x_m, 0.0)
+
+    def flight(self, mode, counts, k_m):
+        return [self.stride(mode, n, k_m) for n in counts]
+
+
+def _walker(params, seed=0, building=None):
+    model = ScriptedModel([])
+    return Walker(ElevationTracker(model, params, building=building), model,
+                  np.random.default_rng(seed))
+
+
+@pytest.mark.parametrize('k_m, prior_m', [(0.14, 0.19), (0.15, 0.17), (0.19, 0.14),
+                                          (0.165, 0.17)])
+def test_estimated_riser_height_ends_a_flight_at_whole_risers_of_the_truth(k_m, prior_m):
+    """Mixed 1-3 risers per stride, a wrong prior: the flight ends at n_total K, and back."""
+    walker = _walker(ElevationParams(step_height_m=prior_m), seed=int(k_m * 1000))
+    counts = walker.rng.choice([1, 2, 3], size=10, p=[0.3, 0.5, 0.2])
+    walker.stride(0)
+    up = walker.flight(1, counts, k_m)
+    assert abs(up[-1].step_height_m - k_m) <= 0.0015
+    # The flight's heights were corrected forward: the end is n_total risers of the estimate.
+    assert up[-1].height_m == pytest.approx(counts.sum() * up[-1].step_height_m, abs=1e-9)
+    assert abs(up[-1].height_m - walker.true_height_m) <= 0.03
+    walker.stride(0)
+    down = walker.flight(-1, counts[::-1], k_m)
+    level = walker.stride(0)
+    assert down[-1].height_m == pytest.approx(0.0, abs=1e-9)      # same stairwell, same K
+    assert level.height_m == pytest.approx(0.0, abs=1e-9)
+
+
+def test_a_second_staircase_of_another_riser_height_gets_its_own_estimate():
+    walker = _walker(ElevationParams(step_height_m=0.17))
+    walker.stride(0)
+    walker.flight(1, [2] * 9, 0.15)
+    for _ in range(5):
+        walker.stride(0)
+    second = walker.flight(1, [2] * 9, 0.19)
+    walker.stride(0)
+    assert walker.tracker.risers.stairwells == 2
+    assert second[-1].step_height_m == pytest.approx(0.19, abs=0.0015)
+    assert walker.tracker.height_m == pytest.approx(walker.true_height_m, abs=0.04)
+
+
+def test_the_building_files_riser_height_is_used_exactly():
+    tree = {'format': 'anfis_elevation_ros/building', 'version': 1, 'step_height_m': 0.16,
+            'floors': [{'index': 0, 'elevation_m': 0.0}, {'index': 1, 'elevation_m': 2.88}]}
+    walker = _walker(ElevationParams(step_height_m=0.17), building=building_from_dict(tree))
+    flight = walker.flight(1, [2] * 9, 0.16)
+    assert {e.step_height_m for e in flight} == {0.16}
+    assert [e.height_m for e in flight] == pytest.approx([0.32 * (i + 1) for i in range(9)],
+                                                         abs=1e-12)
+    level = walker.stride(0)
+    assert (level.floor, level.floor_certain) == (1, True)
+
+
+def test_the_slope_learnt_on_level_strides_corrects_stair_strides():
+    """A misaligned IMU: +20 mm per metre walked; strides up look taller, down shorter."""
+    walker = _walker(ElevationParams(step_height_m=0.17))
+    slope = 0.02
+
+    def stride(mode, risers=0, length_m=1.4):
+        walker.model.outputs.append(float(mode))
+        length = length_m if mode == 0 else risers * TREAD_M
+        walker.x_m += length
+        walker.stamp += 1
+        dh_m = mode * risers * 0.15 + slope * length
+        return walker.tracker.update(walker.stamp, _features(dh_m), walker.x_m, 0.0)
+
+    for _ in range(6):
+        stride(0)
+    up = [stride(1, 2) for _ in range(9)]
+    assert up[-1].step_height_m == pytest.approx(0.15, abs=0.001)
+    assert walker.tracker.slope.slope == pytest.approx(slope)
+
+
+# ------------------------------------------------------------------------------ floors
+
+def test_the_floor_changes_only_when_the_height_settles_no_flicker():
+    """Two flights with a landing at half a storey: no floor change until the level floor."""
+    params = ElevationParams(step_height_m=0.15, floor_height_m=3.0, **FIXED_K)
+    walker = _walker(params)
+    walker.stride(0)
+    seen = [(e.floor, e.floor_certain) for e in walker.flight(1, [2] * 5, 0.15)]   # 1.50 m
+    seen += [(e.floor, e.floor_certain) for e in (walker.stride(0, length_m=0.7),
+                                                  walker.stride(0, length_m=0.7))]
+    seen += [(e.floor, e.floor_certain) for e in walker.flight(1, [2] * 5, 0.15)]  # 3.00 m
+    assert set(seen) == {(0, False)}                  # stairs and the mid-storey landing
+    assert [(e.floor, e.floor_certain) for e in (walker.stride(0), walker.stride(0))] == [
+        (1, True), (1, True)]
+
+
+def test_floors_from_a_building_with_a_taller_lobby_and_its_start():
+    tree = {'format': 'anfis_elevation_ros/building', 'version': 1,
+            'floors': [{'index': -1, 'elevation_m': -3.0}, {'index': 0, 'elevation_m': 0.0},
+                       {'index': 1, 'elevation_m': 4.5}, {'index': 2, 'elevation_m': 7.5}],
+            'start': {'x_m': 0.0, 'y_m': 0.0, 'floor': 0, 'heading_deg': 0.0}}
+    params = ElevationParams(step_height_m=0.15, start_floor=5, **FIXED_K)   # file's start wins
+    walker = _walker(params, building=building_from_dict(tree))
+    assert (walker.tracker.floor, walker.tracker.floor_certain) == (0, True)
+    walker.flight(1, [2] * 15, 0.15)                                          # 4.50 m
+    assert walker.stride(0).floor == 1      # uniform 3 m storeys would say 2 (4.5 / 3 = 1.5)
+    walker.flight(1, [2] * 10, 0.15)
+    assert walker.stride(0).floor == 2
+    walker.flight(-1, [2] * 25, 0.15)
+    walker.flight(-1, [2] * 10, 0.15)
+    assert (walker.stride(0).floor, walker.tracker.height_m) == (-1, pytest.approx(-3.0))
+    del tree['start']
+    with pytest.raises(ValueError, match='start_floor 5 is not a floor'):
+        ElevationTracker(ScriptedModel([]), params, building=building_from_dict(tree))
+
+
+def test_level_but_off_every_floor_is_not_certain_and_keeps_the_floor():
+    tracker = ElevationTracker(ScriptedModel([1.0] * 8 + [0.0]),
+                               ElevationParams(step_height_m=0.15, **FIXED_K))
+    for i in range(8):
+        tracker.update(i, _features(0.15), 0.0, 0.0)                       # 1.20 m
+    level = tracker.update(8, _features(0.0), 0.0, 0.0)
+    assert (level.floor, level.floor_certain) == (0, False)
+
+
+def test_a_resumed_estimate_carries_on():
+    walker = _walker(ElevationParams(step_height_m=0.17))
+    walker.flight(1, [2] * 9, 0.15)
+    walker.stride(0)
+    saved_k, saved_strides = walker.tracker.step_height_m, walker.tracker.risers.strides
+    assert (saved_k, saved_strides) == (pytest.approx(0.15, abs=0.0015), 9)
+    resumed = _walker(ElevationParams(step_height_m=0.17))
+    resumed.tracker.reset(walker.tracker.height_m)
+    resumed.tracker.risers.resume(saved_k, saved_strides)
+    assert resumed.tracker.step_height_m == saved_k
+    first = resumed.flight(1, [1], 0.15)[0]       # one ambiguous stride does not undo it
+    assert first.step_height_m == pytest.approx(saved_k, abs=0.001)
+
+
+def test_a_level_stretch_off_every_floor_moves_to_the_nearest_uncertain():
+    """5.4 m down with 3 m storeys: not a floor, but after a level stretch floor -2, in doubt."""
+    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K))
+    walker.flight(-1, [2] * 18, 0.15)
+    stretch = [walker.stride(0) for _ in range(4)]
+    assert [(e.floor, e.floor_certain) for e in stretch] == [
+        (0, False), (0, False), (-2, False), (-2, False)]

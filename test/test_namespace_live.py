@@ -82,9 +82,8 @@ def test_run_under_a_namespace(tmp_path, listeners):
         assert wait_for(lambda: inside.diagnostic_value(status, 'received') == str(messages),
                         timeout_s=30), (inside.diagnostics.keys(), nodes.log())
         assert f'{NAMESPACE}/classifier_node: elevation' in inside.diagnostics
-        final_floor, highest_floor = truth_floors()
+        final_floor, _ = truth_floors()
         assert wait_for(lambda: inside.floors and inside.floors[-1][0] == final_floor, 30)
-        assert max(floor for floor, _ in inside.floors) == highest_floor
         assert len(inside.elevations) > 10
         assert root.elevations == []
         assert nodes.stop() == 0, nodes.log()

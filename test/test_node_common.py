@@ -145,7 +145,8 @@ def test_descriptors_carry_the_table():
 def _elevation(index):
     return ElevationState(stamp_ns=1_700_000_000_000_000_000 + index, wall_time_s=1000.0,
                           source_id='/gait_cycle', height_m=0.17 * index, floor=0,
-                          cycle_index=index, walk_id=1)
+                          cycle_index=index, walk_id=1, step_height_m=0.17,
+                          riser_strides=index)
 
 
 def test_state_writer_writes_the_latest_state_and_flushes_on_close(tmp_path):

@@ -30,7 +30,7 @@ STATE = NavigationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
                         stride_period_s=1.1, walk_id=12345)
 ELEVATION = ElevationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
                            source_id='/gait_cycle', height_m=3.4, floor=1, cycle_index=42,
-                           walk_id=12345)
+                           walk_id=12345, step_height_m=0.153, riser_strides=17)
 
 
 @pytest.mark.parametrize('state', [STATE, ELEVATION])
@@ -131,3 +131,20 @@ def test_walk_ids_are_random_and_in_range():
     ids = [new_walk_id() for _ in range(200)]
     assert len(set(ids)) > 190 and all(is_walk_id(i) for i in ids)
     assert not any(is_walk_id(v) for v in (0, MAX_WALK_ID + 1, True, 5.0, '5'))
+
+
+def test_a_version_2_elevation_state_is_refused_with_the_reason(tmp_path):
+    path = tmp_path / 'classifier.state.json'
+    old = {k: v for k, v in ELEVATION.__dict__.items()
+           if k not in ('step_height_m', 'riser_strides')}
+    path.write_text(json.dumps({'format': STATE_FORMAT, 'version': 2,
+                                'kind': 'ElevationState', **old}))
+    state, reason = resumable_state(path, ElevationState, '/gait_cycle', 60.0, now_s=1010.0)
+    assert state is None and 'version 2' in reason and 'reads version' in reason
+
+
+@pytest.mark.parametrize('changes', [{'step_height_m': 0.3}, {'step_height_m': float('nan')},
+                                     {'riser_strides': -1}, {'riser_strides': 2.0}])
+def test_a_bad_riser_height_in_a_state_is_refused(changes):
+    with pytest.raises(InputError, match='step_height_m|riser_strides'):
+        ElevationState(**{**ELEVATION.__dict__, **changes})

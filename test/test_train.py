@@ -331,7 +331,7 @@ def test_default_model_climbs_and_descends_a_short_flight(default_model):
     defaults = load_pipeline_params(None)
     pipeline = type(defaults)(
         navigator=defaults.navigator, gate=defaults.gate,
-        elevation=ElevationParams(step_height_m=0.17,
+        elevation=ElevationParams(step_height_m=0.17, step_height_sigma_m=0.0,     # K known
                                   mode_threshold=default_model.metadata_['mode_threshold']))
     result = replay_recording(walk.to_recording(), pipeline, default_model)
     stamps = np.array([row[0] for row in result.cycles], dtype=np.int64)

@@ -20,8 +20,21 @@ order :data:`FEATURE_NAMES`, heights relative to the stance height at the cycle 
 classifier (ANFIS or forest, ``core/classifier.py``) maps them to one number y;
 :func:`stair_mode` turns y into the cycle's mode C (eq. 13: up +1, level 0, down -1),
 :func:`quantised_height_step` turns the cycle's raw height change into a whole number of stair
-steps of height K (eq. 14), and :func:`floor_index` turns the accumulated height into a floor.
+steps of height K (eq. 14), and ``core/floors.py`` turns the accumulated height into a floor
+(the building's floors, or uniform storeys; changed only when the height settles on one).
 :class:`ElevationTracker` holds the height between cycles and runs the three for each cycle.
+
+Riser height K (our addition; the method takes K as known). Nobody at an incident knows it, so
+K is estimated from the stair strides themselves (``core/riser_height.py``, one estimate per
+stairwell), with ``step_height_m`` as the prior, unless the building file gives it (then it is
+used exactly) or ``step_height_sigma_m`` is 0 (then ``step_height_m`` is). A flight is a run of
+valid cycles of one stair mode; its riser count is recomputed from all its strides with the
+current estimate at every stride (:func:`flight_riser_count`), so when the estimate sharpens
+mid-flight the flight's heights are corrected forward; at its end the count is fixed. The
+height is a whole number of risers per stairwell, h = h_0 + sum_w K_w N_w (N_w: net risers
+climbed in stairwell w), so a later flight that sharpens K_w corrects the stairwell's earlier
+flights too, and coming back down the stairs one went up ends exactly where one started.
+K only changes during a flight, so a level stretch keeps its height (no floor flicker).
 
 Lost cycles (our policy; the method does not cover them). A gait cycle with missing IMU samples
 (a gap) or an overlong swing is invalid: its features are not trusted, so it is not classified
@@ -31,15 +44,12 @@ run is bridged with :func:`bridged_step_count` (each lost cycle climbed as many 
 cycle before it). Otherwise (the run is at the start or end of a flight, or on level ground)
 nothing is added; at most one cycle's steps per flight end can be lost this way.
 
-Rounding. "round" in eq. 14 and in the floor index rounds halves away from zero
-(:func:`round_half_away`): 1.5 -> 2, -1.5 -> -2, 0.5 -> 1, -0.5 -> -1. Exact halves are rare with
-real data; this choice treats going up and going down alike around the start floor, which numpy's
-and Python's round-half-to-even would not (0.5 -> 0 but 1.5 -> 2).
+Rounding: :func:`round_half_away` (``core/floors.py``), halves away from zero.
 
 Public API: :class:`ElevationParams`, :class:`CycleEstimate`, :class:`ElevationTracker`,
 :func:`stair_mode`, :func:`quantised_step_count`, :func:`quantised_height_step`,
-:func:`bridged_step_count`,
-:func:`floor_index`, :func:`round_half_away`, :data:`FEATURE_NAMES`, :data:`HEIGHT_CHANGE`.
+:func:`flight_riser_count`, :func:`bridged_step_count`, :func:`floor_index`,
+:func:`round_half_away`, :data:`FEATURE_NAMES`, :data:`HEIGHT_CHANGE`.
 
 References
 ----------
@@ -56,7 +66,15 @@ import numpy as np
 
 from .classifier import as_classifier
 from .errors import InputError
+from .floors import _int_result, floor_index, floor_map_for, FloorSettler, round_half_away
 from .gait import FEATURE_NAMES
+from .riser_height import known_riser_height_m, LevelSlope, PRIOR_SIGMA_M
+from .riser_height import StairwellRiserHeights
+
+__all__ = ['bridged_step_count', 'CycleEstimate', 'ElevationParams', 'ElevationTracker',
+           'FEATURE_NAMES', 'flight_riser_count', 'floor_index', 'HEIGHT_CHANGE',
+           'model_mode_threshold', 'quantised_height_step', 'quantised_step_count',
+           'round_half_away', 'stair_mode']
 
 HEIGHT_CHANGE = FEATURE_NAMES.index('height_change_m')
 """Index (2) of the cycle's raw height change dh (end minus start, m) in the feature vector."""
@@ -69,31 +87,6 @@ MODE_UP, MODE_LEVEL, MODE_DOWN = 1, 0, -1
 
 DEFAULT_MODE_THRESHOLD = 0.5
 """sigma_th for a model that stores none: the midpoint of the training targets -1 / 0 / +1."""
-
-
-def round_half_away(value):
-    """
-    Round to the nearest integer, halves away from zero (1.5 -> 2, -0.5 -> -1).
-
-    round(v) = sign(v) * floor(|v| + 1/2)
-
-    Parameters
-    ----------
-    value : float or array
-        Values to round.
-
-    Returns
-    -------
-    Float or array of the same shape holding whole numbers.
-
-    """
-    return np.sign(value) * np.floor(np.abs(value) + 0.5)
-
-
-def _int_result(value, scalar: bool):
-    """Return a Python int for scalar input, an int64 array otherwise."""
-    result = np.asarray(value).astype(np.int64)
-    return int(result) if scalar else result
 
 
 def stair_mode(y, threshold: float):
@@ -201,28 +194,30 @@ def quantised_height_step(mode, dh_m, step_height_m: float):
     return step_height_m * steps if np.ndim(steps) else float(step_height_m * steps)
 
 
-def floor_index(height_m, floor_height_m: float, start_floor: int = 0):
+def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float) -> int:
     """
-    Floor reached at a height, step S8.
+    Signed risers of a whole flight with one riser height, eq. 14 summed over its strides.
 
-    floor = start_floor + round(h / H)      (round halves away from zero: h = H/2 is one floor up)
+    N = C * sum_i w_i max(1, round(|dh_i| / K));   h_end - h_start = K N
 
     Parameters
     ----------
-    height_m : float or array
-        Height h above the start point, m.
-    floor_height_m : float > 0
-        Storey height H, m.
-    start_floor : int
-        Floor of the start point.
+    mode : int in {-1, +1}
+        The flight's stair mode C.
+    abs_dh_m : (S,) array
+        |dh_i| of its strides, m.
+    cycles : (S,) array of int
+        w_i: 1, plus the lost cycles bridged after stride i (they climbed as stride i).
+    step_height_m : float > 0
+        K, m.
 
     Returns
     -------
-    int (scalar height) or int64 array.
+    int.
 
     """
-    floors = round_half_away(np.asarray(height_m, dtype=float) / floor_height_m)
-    return _int_result(start_floor + floors, np.ndim(height_m) == 0)
+    steps = quantised_step_count(1, np.asarray(abs_dh_m, dtype=float), step_height_m)
+    return int(mode * np.dot(steps, np.asarray(cycles, dtype=np.int64)))
 
 
 def _check_real(name: str, value, low: Optional[float] = None, high: Optional[float] = None):
@@ -243,7 +238,9 @@ class ElevationParams:
     Attributes
     ----------
     step_height_m : stair step height K, m, in [0.10, 0.25]; 0.17 m is a typical building stair
-        (most codes allow 0.15-0.19 m risers).
+        (most codes allow 0.15-0.19 m risers). The prior of the online estimate of K.
+    step_height_sigma_m : width of that prior, m, in [0, 0.1]; 0 takes ``step_height_m`` as
+        known (no estimation).
     mode_threshold : sigma_th of eq. 13, in [0, 1], or negative (the default) for the model's
         own: the threshold the training tool chose by cross-validation, stored in the model's
         metadata as ``mode_threshold`` (0.5, the midpoint of the targets -1 / 0 / +1, for a
@@ -251,6 +248,8 @@ class ElevationParams:
     floor_height_m : storey height H, m, >= 2.0; 3.0 m is a common storey.
     start_floor : floor of the start point (int).
     start_height_m : height of the start point above the start floor's reference, m.
+    floor_tolerance_m : a level height this close to a floor's elevation settles on that floor,
+        m, in [0.05, 1.5] (``core/floors.py``).
 
     """
 
@@ -259,9 +258,13 @@ class ElevationParams:
     floor_height_m: float = 3.0
     start_floor: int = 0
     start_height_m: float = 0.0
+    step_height_sigma_m: float = PRIOR_SIGMA_M
+    floor_tolerance_m: float = 0.5
 
     def __post_init__(self):
         _check_real('step_height_m', self.step_height_m, 0.10, 0.25)
+        _check_real('step_height_sigma_m', self.step_height_sigma_m, 0.0, 0.1)
+        _check_real('floor_tolerance_m', self.floor_tolerance_m, 0.05, 1.5)
         _check_real('mode_threshold', self.mode_threshold, -1.0, 1.0)
         _check_real('floor_height_m', self.floor_height_m, 2.0)
         _check_real('start_height_m', self.start_height_m)
@@ -280,10 +283,13 @@ class CycleEstimate:
     stamp_ns : int, stamp of the cycle (its end), ns.
     mode : int, stair mode C of eq. 13: +1 up, 0 level, -1 down.
     height_m : float, quantised height h after this cycle (eq. 14), m, z up.
-    floor : int, floor index at height_m.
+    floor : int, the floor: the last one the height settled on (``core/floors.py``).
     x_m, y_m : float, horizontal position of the foot in the navigation frame n (ENU), m.
     anfis_output : float, the ANFIS output y that gave the mode (NaN for an invalid cycle).
     bridged_steps : int, steps credited to the invalid cycles just before this one.
+    floor_certain : bool, whether the height is settled on the floor (False on stairs, on a
+        landing between floors, off every floor).
+    step_height_m : float, riser height K in use (the estimate, the file's, or the parameter), m.
 
     """
 
@@ -295,6 +301,8 @@ class CycleEstimate:
     y_m: float
     anfis_output: float
     bridged_steps: int = 0
+    floor_certain: bool = True
+    step_height_m: float = float('nan')
 
 
 def model_mode_threshold(model, params: ElevationParams) -> float:
@@ -325,8 +333,8 @@ class ElevationTracker:
     """
     Height and floor from the features of successive gait cycles (eq. 13-14, step S8).
 
-    The height is kept as a whole number of stair steps above a base height, so it carries no
-    rounding drift: height_m = base_height_m + K * steps.
+    The height is the start height plus whole numbers of risers per stairwell (module
+    docstring), so it carries no rounding drift.
 
     Parameters
     ----------
@@ -334,13 +342,23 @@ class ElevationTracker:
         A stair classifier (``core/classifier.py``; a bare ANFIS of eq. (8)-(12) is wrapped) or
         any object whose ``predict`` maps a (1, N_FEATURES) feature array to a (1,) array.
     params : ElevationParams
-        Step height, mode threshold, storey height, start floor and height.
+        Step height (prior), mode threshold, storey height, start floor and height.
     height_m : float or None
         Height to resume from after a restart; default ``params.start_height_m``.
+    building : Building or None
+        The incident's building (``core/building.py``): its floors replace the uniform storeys,
+        its riser height (building-wide, or the one all its stairwells give) replaces the
+        estimate.
+
+    Raises
+    ------
+    ValueError : a model of the wrong shape, params of the wrong type, or a start floor that is
+        not one of the building's floors.
 
     """
 
-    def __init__(self, model, params: ElevationParams, height_m: Optional[float] = None):
+    def __init__(self, model, params: ElevationParams, height_m: Optional[float] = None,
+                 building=None):
         model = as_classifier(model)
         n_inputs = getattr(model, 'n_inputs', len(FEATURE_NAMES))
         if n_inputs != len(FEATURE_NAMES) or not callable(getattr(model, 'predict', None)):
@@ -350,6 +368,7 @@ class ElevationTracker:
             raise ValueError(f'params must be ElevationParams, got {type(params).__name__}')
         self.model = model
         self.params = params
+        self.building = building
         self.mode_threshold = model_mode_threshold(model, params)
         self.reset(height_m)
 
@@ -360,40 +379,75 @@ class ElevationTracker:
         if isinstance(height_m, bool) or not isinstance(height_m, numbers.Real) \
                 or not math.isfinite(height_m):
             raise ValueError(f'height_m must be a finite number, got {height_m!r}')
+        params = self.params
         self._base_height_m = float(height_m)
-        self._steps = 0
+        self._flight_mode = MODE_LEVEL
+        self._flight_abs_dh_m = []
+        self._flight_cycles = []
         self._last_mode = MODE_LEVEL
-        self._last_steps = 0
+        self._last_abs_dh_m = 0.0
+        self._last_xy = None
         self._lost = 0
+        self.risers = StairwellRiserHeights(params.step_height_m, known_riser_height_m(
+            self.building), params.step_height_sigma_m)
+        self.slope = LevelSlope()
+        self.floors = FloorSettler(self._floor_map(params), params.floor_tolerance_m,
+                                   self._base_height_m)
         self.bridged_cycles = 0
         self.unbridged_cycles = 0
         self.implausible_cycles = 0
+
+    def _floor_map(self, params: ElevationParams):
+        return floor_map_for(self.building, params.start_floor, params.floor_height_m)
 
     def set_params(self, params: ElevationParams):
         """
         Take new parameters mid-run (a live parameter change).
 
-        The height is kept (the new step height counts from here), and so are the counters and
-        the invalid cycles waiting to be bridged; the floor follows the new storey height and
-        start floor.
+        The height is kept (the current flight starts again here, the new prior of K counts),
+        and so are the counters, the strides of the riser estimate and the invalid cycles
+        waiting to be bridged; the floor is the nearest one of the new storey height and start
+        floor, certain if the height is within the tolerance of it and was settled.
         """
         if not isinstance(params, ElevationParams):
             raise ValueError(f'params must be ElevationParams, got {type(params).__name__}')
         mode_threshold = model_mode_threshold(self.model, params)
+        floor_map = self._floor_map(params)
         self._base_height_m = self.height_m
-        self._steps = 0
+        self.risers.forget_climbs()
+        self._flight_abs_dh_m, self._flight_cycles = [], []
         self.params = params
         self.mode_threshold = mode_threshold
+        self.risers.set_prior(params.step_height_m, params.step_height_sigma_m)
+        self.floors.tolerance_m = params.floor_tolerance_m
+        self.floors.rebase(floor_map, self.height_m, self.floors.certain)
 
     @property
     def height_m(self) -> float:
         """Return the current quantised height, m (z up)."""
-        return self._base_height_m + self.params.step_height_m * self._steps
+        return self._base_height_m + self.risers.climbed_m + self.step_height_m * \
+            self._flight_risers()
+
+    def _flight_risers(self) -> int:
+        if not self._flight_abs_dh_m:
+            return 0
+        return flight_riser_count(self._flight_mode, self._flight_abs_dh_m, self._flight_cycles,
+                                  self.step_height_m)
+
+    @property
+    def step_height_m(self) -> float:
+        """Return the riser height K in use (current stairwell's estimate, or the file's), m."""
+        return self.risers.estimate_m
 
     @property
     def floor(self) -> int:
-        """Return the current floor index."""
-        return floor_index(self.height_m, self.params.floor_height_m, self.params.start_floor)
+        """Return the current floor index (the last one the height settled on)."""
+        return self.floors.floor
+
+    @property
+    def floor_certain(self) -> bool:
+        """Return whether the height is settled on the floor."""
+        return self.floors.certain
 
     def update(self, stamp_ns: int, features, x_m: float, y_m: float,
                valid: bool = True) -> CycleEstimate:
@@ -431,6 +485,7 @@ class ElevationTracker:
                 from None
         if not valid:
             self._lost += 1
+            self.floors.update(self.height_m, None)
             return self._estimate(stamp_ns, MODE_LEVEL, x_m, y_m, float('nan'))
         if not (math.isfinite(x_m) and math.isfinite(y_m)):
             raise InputError(f'cycle position is not finite: x_m={x_m}, y_m={y_m}; cycle skipped')
@@ -449,23 +504,54 @@ class ElevationTracker:
             return self.update(stamp_ns, features, x_m, y_m, valid=False)
         output = float(self.model.predict(features[None, :])[0])
         mode = stair_mode(output, self.mode_threshold)                                   # eq. 13
-        steps = quantised_step_count(mode, features[HEIGHT_CHANGE],
-                                     self.params.step_height_m)                         # eq. 14
-        bridged = 0
-        if self._lost:
-            bridged = bridged_step_count(self._last_mode, self._last_steps, mode, self._lost)
-            if bridged:
-                self.bridged_cycles += self._lost
-            else:
-                self.unbridged_cycles += self._lost
-            self._lost = 0
-        self._steps += steps + bridged
-        self._last_mode, self._last_steps = mode, steps
+        dh_m = float(features[HEIGHT_CHANGE])
+        length_m = None if self._last_xy is None or self._lost else math.hypot(
+            x_m - self._last_xy[0], y_m - self._last_xy[1])
+        self._last_xy = (x_m, y_m)
+        bridged = self._bridge(mode)
+        if mode != self._flight_mode:
+            self._end_flight(mode)
+            if mode != MODE_LEVEL:
+                self.risers.start_flight()
+        if mode == MODE_LEVEL:
+            self.slope.add_level(dh_m, length_m)
+        else:
+            dh_m = self.slope.corrected(dh_m, length_m)
+            self.risers.add(dh_m, length_m)
+            self._flight_abs_dh_m.append(abs(dh_m))
+            self._flight_cycles.append(1)
+            self._last_abs_dh_m = abs(dh_m)
+        self._last_mode = mode
+        self.floors.update(self.height_m, mode)
         return self._estimate(stamp_ns, mode, x_m, y_m, output, bridged)
 
+    def _bridge(self, mode: int) -> int:
+        """Credit the invalid cycles before this one (:func:`bridged_step_count`)."""
+        if not self._lost:
+            return 0
+        lost, self._lost = self._lost, 0
+        steps_before = self._last_mode * quantised_step_count(
+            1, self._last_abs_dh_m, self.step_height_m)
+        bridged = bridged_step_count(self._last_mode, steps_before, mode, lost)
+        if bridged:             # the lost cycles climbed as the stride before
+            if self._flight_abs_dh_m:
+                self._flight_cycles[-1] += lost
+            else:               # the flight started again at a parameter change
+                self._flight_abs_dh_m.append(self._last_abs_dh_m)
+                self._flight_cycles.append(lost)
+            self.bridged_cycles += lost
+        else:
+            self.unbridged_cycles += lost
+        return bridged
+
+    def _end_flight(self, mode: int):
+        """Fix the current flight's riser count in its stairwell; start a flight of ``mode``."""
+        self.risers.end_flight(self._flight_risers())
+        self._flight_abs_dh_m, self._flight_cycles = [], []
+        self._flight_mode = mode
+
     def _estimate(self, stamp_ns, mode, x_m, y_m, output, bridged=0) -> CycleEstimate:
-        height_m = self.height_m
-        return CycleEstimate(stamp_ns=int(stamp_ns), mode=mode, height_m=height_m,
-                             floor=floor_index(height_m, self.params.floor_height_m,
-                                               self.params.start_floor),
-                             x_m=x_m, y_m=y_m, anfis_output=output, bridged_steps=bridged)
+        return CycleEstimate(stamp_ns=int(stamp_ns), mode=mode, height_m=self.height_m,
+                             floor=self.floor, x_m=x_m, y_m=y_m, anfis_output=output,
+                             bridged_steps=bridged, floor_certain=self.floor_certain,
+                             step_height_m=self.step_height_m)

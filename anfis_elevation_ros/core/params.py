@@ -255,7 +255,12 @@ _DOCS = {
     'gate.max_future_jump_s': ('A stamp further ahead of the last one is refused until 3 '
                                'samples confirm it, s.', 0.005, 3600.0, _LIVE),
     # ElevationParams
-    'elevation.step_height_m': ('Stair step height K of eq. (14), m.', 0.10, 0.25, _LIVE),
+    'elevation.step_height_m': ('Stair step height K of eq. (14), m: the prior of the online '
+                                "estimate (a building file's riser height replaces both).", 0.10,
+                                0.25, _LIVE),
+    'elevation.step_height_sigma_m': ('Width of the prior of K around step_height_m, m; 0 takes '
+                                      'step_height_m as known (no online estimate).', 0.0, 0.1,
+                                      _LIVE),
     'elevation.mode_threshold': ('Stair-mode threshold sigma_th of eq. (13); negative: the '
                                  "model's own (chosen in training, in its metadata).", -1.0, 1.0,
                                  _LIVE),
@@ -264,6 +269,9 @@ _DOCS = {
                               -100, 1000, _LIVE),
     'elevation.start_height_m': ('Height of the start point above its floor reference, m.',
                                  -1000.0, 1000.0, _READ_ONLY),
+    'elevation.floor_tolerance_m': ('The floor changes at a level cycle whose height is this '
+                                    "close to the floor's elevation, m (else it is not "
+                                    'certain).', 0.05, 1.5, _LIVE),
     # BuildingAidParams
     'building_aid.align_strides': ("With a building's start: strides whose direction is taken "
                                    'as start.heading_deg (the map frame is fixed after them).',

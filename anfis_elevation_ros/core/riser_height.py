@@ -30,7 +30,9 @@ pi(n) prefers the smaller count (:data:`RISER_COUNT_PRIOR`). A riser height the 
 file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``).
 
 Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`stride_log_likelihood`,
-:class:`RiserHeightEstimator`, :data:`K_GRID_M`.
+:class:`RiserHeightEstimator`, :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
+:func:`known_riser_height_m`,
+:data:`K_GRID_M`.
 
 References
 ----------
@@ -56,11 +58,23 @@ RISER_COUNT_PRIOR = np.array([0.4, 0.4, 0.15, 0.05])
 TREAD_RANGE_M = (0.20, 0.38)
 """Horizontal depth of one tread, m (codes: 0.22-0.35 m, margin for INS length errors)."""
 
+OUTLIER_PROB = 0.05
+"""Probability that a stair stride fits no riser count (misclassified, INS glitch)."""
+
 STRIDE_SIGMA_M = 0.01
 """Noise sigma of one stride's raw height change, m (simulator: 1-5 mm rms, tails 2 cm)."""
 
 PRIOR_SIGMA_M = 0.02
 """Sigma of the prior around ``elevation.step_height_m``, m: weak, a few strides override it."""
+
+SLOPE_STRIDES = 64
+"""Level strides behind the slope correction (:class:`LevelSlope`)."""
+
+SLOPE_MIN_LENGTH_M = 0.5
+"""Shorter level strides (turns, shuffles) say little about the slope, m."""
+
+RESUMED_SIGMA_M = 0.002
+"""Narrowest prior of a resumed estimate, m (twice the grid step)."""
 
 
 def log_prior(k_grid_m: np.ndarray, prior_m: float, sigma_m: float = PRIOR_SIGMA_M):
@@ -111,7 +125,11 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
     """
     Log likelihood of one stair stride's raw height change for each riser height.
 
-    log p(dh | K) = log sum_{n allowed} pi(n) N(|dh|; n K, sigma^2)
+    p(dh | K) = (1 - eps) sum_{n allowed} pi(n) N(|dh|; n K, sigma^2) + eps / (N_max K_max)
+
+    The last term (:data:`OUTLIER_PROB`, uniform over 0..N_max K_max) is a stride that fits no
+    count (a misclassified cycle, an INS glitch): without it one such stride would drag K to
+    the edge of the grid.
 
     Parameters
     ----------
@@ -131,8 +149,12 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
     """
     counts = np.arange(1, MAX_RISERS + 1)
     weights = RISER_COUNT_PRIOR * (np.ones(MAX_RISERS, bool) if allowed is None else allowed)
+    weights = weights / weights.sum()
     z = (abs(dh_m) - counts[None, :] * np.asarray(k_grid_m)[:, None]) / sigma_m
-    terms = np.log(np.maximum(weights, 1e-300))[None, :] - 0.5 * z ** 2
+    terms = np.log(np.maximum(weights * (1.0 - OUTLIER_PROB), 1e-300))[None, :] \
+        - 0.5 * z ** 2 - math.log(math.sqrt(2.0 * math.pi) * sigma_m)
+    outlier = math.log(OUTLIER_PROB / (MAX_RISERS * K_GRID_M[-1]))
+    terms = np.concatenate([terms, np.full((len(terms), 1), outlier)], axis=1)
     top = terms.max(axis=1)
     return top + np.log(np.exp(terms - top[:, None]).sum(axis=1))
 
@@ -147,47 +169,295 @@ class RiserHeightEstimator:
         ``elevation.step_height_m``: the prior's centre, and the answer before any stairs.
     known_m : float or None
         The building file's riser height: then it is the answer and nothing is estimated.
+    prior_sigma_m : float
+        Width of the prior, m (``elevation.step_height_sigma_m``); 0 takes ``prior_m`` as
+        known (no estimation).
 
     Attributes
     ----------
     strides : int, stair strides in the current estimate.
+    prior_m, prior_sigma_m : float, the configured prior, m (a resumed estimate narrows the
+        prior in use, not these).
 
     """
 
-    def __init__(self, prior_m: float, known_m: Optional[float] = None):
-        for name, value in (('prior_m', prior_m), ('known_m', known_m)):
-            if value is None and name == 'known_m':
-                continue
-            if isinstance(value, bool) or not isinstance(value, numbers.Real) \
-                    or not 0.10 <= value <= 0.25:
-                raise ValueError(f'RiserHeightEstimator {name} must be a riser height in '
-                                 f'[0.10, 0.25] m, got {value!r}')
-        self.prior_m = float(prior_m)
+    def __init__(self, prior_m: float, known_m: Optional[float] = None,
+                 prior_sigma_m: float = PRIOR_SIGMA_M):
+        if known_m is not None:
+            _check_riser('known_m', known_m)
         self.known_m = None if known_m is None else float(known_m)
+        self.set_prior(prior_m, prior_sigma_m)
         self.reset()
 
     def reset(self, prior_m: Optional[float] = None):
         """Forget the strides (a new stairwell); optionally move the prior's centre."""
         if prior_m is not None:
-            self.prior_m = float(prior_m)
-        self._log_posterior = log_prior(K_GRID_M, self.prior_m)
+            self.set_prior(prior_m)
+        self._log_likelihood = np.zeros(len(K_GRID_M))
         self.strides = 0
+
+    def set_prior(self, prior_m: float, sigma_m: Optional[float] = None):
+        """Set the prior (a live parameter change); the strides are kept."""
+        _check_riser('prior_m', prior_m)
+        sigma_m = getattr(self, 'prior_sigma_m', PRIOR_SIGMA_M) if sigma_m is None else sigma_m
+        if isinstance(sigma_m, bool) or not isinstance(sigma_m, numbers.Real) \
+                or not 0.0 <= sigma_m <= 1.0:
+            raise ValueError('RiserHeightEstimator prior_sigma_m must be a number in [0, 1] m, '
+                             f'got {sigma_m!r}')
+        self.prior_m, self.prior_sigma_m = float(prior_m), float(sigma_m)
+        self._prior_in_use = (self.prior_m, self.prior_sigma_m)
+
+    def resume(self, estimate_m: float, strides: int):
+        """
+        Carry on from a saved estimate of ``strides`` strides (a restart).
+
+        The strides themselves are not saved: the prior in use becomes a Gaussian around the
+        saved estimate, as narrow as a posterior of that many strides,
+        sigma_K / sqrt(1 + strides), at least :data:`RESUMED_SIGMA_M`.
+        """
+        _check_riser('estimate_m', estimate_m)
+        self.reset()
+        self.strides = max(0, int(strides))
+        if self.estimating and self.strides:
+            self._prior_in_use = (float(estimate_m), max(
+                RESUMED_SIGMA_M, self.prior_sigma_m / math.sqrt(1.0 + self.strides)))
 
     def add(self, dh_m: float, length_m: Optional[float] = None) -> float:
         """Take one stair stride's raw height change (m) and length (m); return the estimate."""
         if not math.isfinite(dh_m):
             raise ValueError(f'RiserHeightEstimator.add: dh_m must be finite, got {dh_m!r}')
-        if self.known_m is None:
-            self._log_posterior = self._log_posterior + stride_log_likelihood(
+        if self.estimating:
+            self._log_likelihood = self._log_likelihood + stride_log_likelihood(
                 dh_m, K_GRID_M, allowed_riser_counts(length_m))
         self.strides += 1
         return self.estimate_m
 
     @property
+    def estimating(self) -> bool:
+        """Return whether K is estimated (no file's height, a prior of non-zero width)."""
+        return self.known_m is None and self.prior_sigma_m > 0.0
+
+    @property
     def estimate_m(self) -> float:
         """Return the riser height: the file's, else the posterior's maximum (or the prior)."""
+        return self.estimate_with(None)
+
+    def estimate_with(self, more_log_likelihood=None) -> float:
+        """Return the estimate with the log likelihood of more strides (an open flight)."""
         if self.known_m is not None:
             return self.known_m
-        if self.strides == 0:
+        if not self.estimating:
             return self.prior_m
-        return float(K_GRID_M[int(np.argmax(self._log_posterior))])
+        if self.strides == 0 and more_log_likelihood is None:
+            return self._prior_in_use[0]
+        return float(K_GRID_M[int(np.argmax(self.log_posterior(more_log_likelihood)))])
+
+    def log_posterior(self, more_log_likelihood=None) -> np.ndarray:
+        """
+        Return the normalised log posterior over :data:`K_GRID_M` (with more strides if given).
+
+        log p(K | dh) = log p(K) + sum_i log p(dh_i | K) - log sum_K' (...)
+        """
+        terms = log_prior(K_GRID_M, *self._prior_in_use) + self._log_likelihood
+        if more_log_likelihood is not None:
+            terms = terms + more_log_likelihood
+        return terms - _log_sum_exp(terms)
+
+    def commit(self, log_likelihood: np.ndarray, strides: int):
+        """Add the summed log likelihood of ``strides`` strides (a finished flight)."""
+        if self.estimating:
+            self._log_likelihood = self._log_likelihood + log_likelihood
+        self.strides += int(strides)
+
+
+def _log_sum_exp(terms: np.ndarray) -> float:
+    top = float(np.max(terms))
+    return top + math.log(float(np.sum(np.exp(terms - top))))
+
+
+def _check_riser(name: str, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) \
+            or not 0.10 <= value <= 0.25:
+        raise ValueError(f'RiserHeightEstimator {name} must be a riser height in '
+                         f'[0.10, 0.25] m, got {value!r}')
+
+
+class StairwellRiserHeights:
+    """
+    One :class:`RiserHeightEstimator` per stairwell, a flight's stairwell chosen by its strides.
+
+    Successive flights of one stairwell share K (their strides sharpen one estimate); another
+    staircase may have another K. Which stairwell a flight is in is not known (no stair
+    database here, and the INS position drifts), so each flight goes to the stairwell whose
+    riser height best explains its strides so far, or to a new one, by Bayesian evidence
+    (:func:`stairwell_evidence`): a stairwell of another K, or a flight of one stair too many,
+    is told apart after a stride or two. Each stairwell keeps the net risers N_w of its finished
+    flights, so that the height they add is K_w N_w with the latest K_w.
+
+    Parameters
+    ----------
+    prior_m, known_m, prior_sigma_m
+        As :class:`RiserHeightEstimator`, for every stairwell.
+
+    """
+
+    def __init__(self, prior_m: float, known_m: Optional[float] = None,
+                 prior_sigma_m: float = PRIOR_SIGMA_M):
+        self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
+        self._wells = []            # [estimator, net risers of its finished flights]
+        self._flight_log_likelihood = None
+        self._flight_strides = 0
+        self._index = None          # stairwell of the open (or last) flight; None: a new one
+
+    def start_flight(self):
+        """Open a flight: its strides are the flight's until :meth:`end_flight`."""
+        self._flight_log_likelihood = np.zeros(len(K_GRID_M))
+        self._flight_strides = 0
+        self._index = None
+
+    def add(self, dh_m: float, length_m: Optional[float] = None) -> float:
+        """Add a stride of the open flight, choose its stairwell; return the estimate, m."""
+        if not math.isfinite(dh_m):
+            raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
+        if self._flight_log_likelihood is None:
+            self.start_flight()
+        self._flight_log_likelihood += stride_log_likelihood(dh_m, K_GRID_M,
+                                                             allowed_riser_counts(length_m))
+        self._flight_strides += 1
+        if self._template.estimating:
+            evidence = [stairwell_evidence(estimator.log_posterior(),
+                                           self._flight_log_likelihood)
+                        for estimator, _ in self._wells]
+            new = stairwell_evidence(self._template.log_posterior(),
+                                     self._flight_log_likelihood)
+            best = int(np.argmax(evidence)) if evidence else None
+            self._index = best if best is not None and evidence[best] >= new else None
+        else:
+            self._index = 0 if self._wells else None
+        return self.estimate_m
+
+    def end_flight(self, risers: int):
+        """Close the open flight: its strides and signed riser count join its stairwell."""
+        if self._flight_log_likelihood is None or not self._flight_strides:
+            self._flight_log_likelihood = None
+            return
+        if self._index is None:
+            first = self._template
+            self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
+                                                     first.prior_sigma_m), 0])
+            self._index = len(self._wells) - 1
+        well = self._wells[self._index]
+        well[0].commit(self._flight_log_likelihood, self._flight_strides)
+        well[1] += int(risers)
+        self._flight_log_likelihood = None
+
+    def _open_flight(self):
+        return self._flight_log_likelihood if self._flight_strides else None
+
+    @property
+    def estimate_m(self) -> float:
+        """Return the riser height of the open (else the last) flight's stairwell, m."""
+        estimator = self._template if self._index is None else self._wells[self._index][0]
+        return estimator.estimate_with(self._open_flight())
+
+    @property
+    def climbed_m(self) -> float:
+        """Return the height of the finished flights, sum_w K_w N_w, m."""
+        total = 0.0
+        for k, (estimator, risers) in enumerate(self._wells):
+            more = self._open_flight() if k == self._index else None
+            total += estimator.estimate_with(more) * risers
+        return total
+
+    def forget_climbs(self):
+        """Zero every N_w (the caller keeps their height in its base: a new prior, a resume)."""
+        for well in self._wells:
+            well[1] = 0
+
+    def resume(self, estimate_m: float, strides: int):
+        """Carry on from a saved estimate (a restart): one stairwell that has it."""
+        estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
+                                         self._template.prior_sigma_m)
+        estimator.resume(estimate_m, strides)
+        self._wells = [[estimator, 0]]
+        self._index = 0
+
+    def set_prior(self, prior_m: float, sigma_m: float):
+        """Move every stairwell's prior (a live parameter change); strides are kept."""
+        for estimator in [self._template] + [well[0] for well in self._wells]:
+            estimator.set_prior(prior_m, sigma_m)
+
+    @property
+    def strides(self) -> int:
+        """Return the stair strides behind the current estimate."""
+        estimator = self._template if self._index is None else self._wells[self._index][0]
+        return estimator.strides + self._flight_strides * (self._open_flight() is not None)
+
+    @property
+    def stairwells(self) -> int:
+        """Return the number of stairwells told apart so far."""
+        return len(self._wells)
+
+
+def stairwell_evidence(log_posterior: np.ndarray, flight_log_likelihood: np.ndarray) -> float:
+    """
+    Log evidence of a flight's strides for a stairwell (or a new one, with the prior).
+
+    log p(dh_flight | w) = log sum_K p(K | w) p(dh_flight | K)
+    """
+    return _log_sum_exp(log_posterior + flight_log_likelihood)
+
+
+class LevelSlope:
+    """
+    Height error of the raw INS per horizontal metre, learnt from level strides.
+
+    A misaligned accelerometer (a cross-axis term) turns forward motion into a height error
+    per forward metre, one constant per walk, which no zero-velocity update sees; it makes
+    strides up look taller than strides down by 2 c L. On level strides the true height change
+    is 0, so (:func:`level_slope`) c = median_i dh_i / L_i over the last :data:`SLOPE_STRIDES`
+    level strides of at least :data:`SLOPE_MIN_LENGTH_M`; a stair stride is then corrected
+    to dh - c L before K is estimated and its risers counted.
+    """
+
+    def __init__(self):
+        self._ratios = []
+
+    def add_level(self, dh_m: float, length_m: Optional[float]):
+        """Take a level stride's raw height change and horizontal length, m."""
+        if length_m is not None and length_m >= SLOPE_MIN_LENGTH_M and math.isfinite(dh_m):
+            self._ratios = (self._ratios + [dh_m / length_m])[-SLOPE_STRIDES:]
+
+    @property
+    def slope(self) -> float:
+        """Return c, m of height per m of stride (0 before any level stride)."""
+        return level_slope(self._ratios)
+
+    def corrected(self, dh_m: float, length_m: Optional[float]) -> float:
+        """Return a stair stride's height change without the slope error, dh - c L, m."""
+        return dh_m if length_m is None else dh_m - self.slope * length_m
+
+
+def level_slope(ratios) -> float:
+    """
+    Height error per horizontal metre from level strides.
+
+    c = median_i (dh_i / L_i)      (0 with no stride)
+    """
+    return float(np.median(ratios)) if len(ratios) else 0.0
+
+
+def known_riser_height_m(building) -> Optional[float]:
+    """
+    Riser height a building file gives for the whole building, else None (then estimated).
+
+    The building-wide ``step_height_m`` when every stairwell resolves to it, or the height all
+    stairwells give alike; None when stairwells differ or some give none (which stairwell a
+    flight is in is not known here).
+    """
+    if building is None:
+        return None
+    wells = {entry.stairwell for entry in building.stairs}
+    heights = {building.riser_height_m(well) for well in wells} if wells else {
+        building.riser_height_m()}
+    return heights.pop() if len(heights) == 1 else None

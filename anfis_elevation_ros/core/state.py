@@ -49,7 +49,7 @@ import time
 from .errors import InputError
 
 STATE_FORMAT = 'anfis_elevation_ros.state'
-STATE_VERSION = 3
+STATE_VERSION = 4
 MAX_STATE_BYTES = 64 * 1024  # a state file is a few hundred bytes; refuse anything large
 MAX_STAIR_FIXES = 1000       # identities of applied corrections kept (core/position_fix.py: 256)
 MAX_WALK_ID = 2 ** 31 - 1    # sent as a FLOAT64 field of the gait-cycle message: exact
@@ -176,6 +176,10 @@ class ElevationState:
         Index of the last gait cycle counted (the IMU node numbers them from 1).
     walk_id : int
         The walk the counted cycles belong to (sent by the IMU node with every cycle).
+    step_height_m : float
+        Riser height K in use (online estimate or the building file's), m, in [0.10, 0.25].
+    riser_strides : int
+        Stair strides behind that estimate (a resumed estimate is as sure as they made it).
 
     """
 
@@ -186,10 +190,15 @@ class ElevationState:
     floor: int
     cycle_index: int
     walk_id: int
+    step_height_m: float
+    riser_strides: int
 
     def __post_init__(self):
         _check_fields(self)
         _check_walk_id(self.walk_id)
+        if not 0.10 <= self.step_height_m <= 0.25 or self.riser_strides < 0:
+            raise InputError(f'state step_height_m = {self.step_height_m} (riser_strides '
+                             f'{self.riser_strides}) is not a riser height in [0.10, 0.25] m')
 
 
 _KINDS = {cls.__name__: cls for cls in (NavigationState, ElevationState)}
@@ -255,8 +264,12 @@ def load_state(path, kind):
         raise InputError(f'{path}: no state file') from None
     except (OSError, UnicodeDecodeError, ValueError, RecursionError) as err:
         raise InputError(f'{path}: not a readable state file ({err})') from None
+    if isinstance(document, dict) and document.get('format') == STATE_FORMAT \
+            and document.get('version') != STATE_VERSION:
+        raise InputError(f'{path}: state file version {document.get("version")!r}, written by '
+                         f'another version of the package (this one reads version '
+                         f'{STATE_VERSION}; version 4 added the riser height)')
     if not isinstance(document, dict) or document.get('format') != STATE_FORMAT \
-            or document.get('version') != STATE_VERSION \
             or _KINDS.get(document.get('kind')) is not kind:
         raise InputError(f'{path}: not a {STATE_FORMAT} version {STATE_VERSION} '
                          f'{kind.__name__} file')

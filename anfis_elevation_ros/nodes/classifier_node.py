@@ -35,8 +35,10 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     ``stair_mode``, std_msgs/Int8: +1 up, 0 level, -1 down, per classified cycle.
     ``floor``, std_msgs/Int32: the floor index per classified cycle, and ``elevation.start_floor``
     once at start.
-    ``floor_certain``, std_msgs/Bool, with every ``floor``: whether the floor is known (a map
-    shows 'Floor ?' when it is not).
+    ``floor_certain``, std_msgs/Bool, with every ``floor``: whether the height has settled on
+    the floor (False on stairs, on a landing between floors, level but off every floor; a map
+    shows 'Floor ?'). Floors come from the building file's elevations when ``building_file``
+    is given, else from ``elevation.floor_height_m`` and ``elevation.start_floor``.
     ``stair_fix``, sensor_msgs/PointCloud2 (layout in ``nodes/stair_fix_msg.py``), reliable,
     transient local, depth 100, only with a building file that has ``stairs`` and a ``start``:
     one correction request per stair entry associated with the stair-position database
@@ -45,9 +47,10 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     x the distance walked since the last correction). The IMU node applies each once.
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray at 1 Hz: "/classifier_node: elevation"
     (cycles classified, invalid, bridged, unbridged, missed (index gaps), malformed, height,
-    floor, mode, resumed or not, failed state writes; with stairs: stair entries seen,
-    associations accepted, refused as too far or for want of an entry, cycles not in the map
-    frame, distance since the last correction).
+    floor, floor_certain, step_height_m (the riser height K in use: online estimate or the
+    building file's), riser_strides, stairwells, mode, resumed or not, failed state writes;
+    with stairs: stair entries seen, associations accepted, refused as too far or for want of
+    an entry, cycles not in the map frame, distance since the last correction).
 
 Parameters: ``elevation.*`` (step height, mode threshold, storey height and start floor may
 change live; the height is kept), ``model_path``, ``map_frame_id``, persistence; see
@@ -55,14 +58,16 @@ change live; the height is kept), ``model_path``, ``map_frame_id``, persistence;
 
 Persisted state (``persist_state``, ``state_dir``, ``state_max_age_s``, ``resume_max_gap_s``):
 after every gait cycle the node writes an ``ElevationState`` (quantised height, floor, stamp and
-index of the last cycle counted, the walk identity; source = the resolved gait_cycle topic)
+index of the last cycle counted, the walk identity, the riser height estimate and its strides;
+source = the resolved gait_cycle topic)
 atomically with permissions 0600. On start a fresh state from the same topic is a candidate:
 its floor is published with ``floor_certain`` false, and the first gait cycle decides. The
 state is resumed when that cycle belongs to the saved walk (``walk_id``: the IMU node resumed
 it too, or never stopped) and either is one already counted (the IMU node's history) or
 follows the saved stamp by at most ``resume_max_gap_s`` (``core/state.py``,
 ``walk_continues``): the height carries on, and cycles up to the saved index and stamp are not
-counted twice. Otherwise (a second play of a bag, an IMU node that started a new walk) the node
+counted twice, and the riser estimate carries on. Otherwise (a second play of a bag, an IMU
+node that started a new walk) the node
 starts fresh. The log and the diagnostics (``resume``: the decision and why;
 ``resume_refusals``: saved states not resumed) say which. A new walk while the node runs (the
 IMU node restarted and could not resume) carries the height on: the wearer did not move.
@@ -132,7 +137,7 @@ class ClassifierNode(PersistsState, Node):
             state, reason = resumable_state(self._state_path, ElevationState, self._source_id,
                                             values['state_max_age_s'])
         elevation = elevation_params_from_dict(values)
-        self._tracker = ElevationTracker(self._model, elevation)
+        self._tracker = ElevationTracker(self._model, elevation, building=self._building)
         self._resume_max_gap_s = values['resume_max_gap_s']
         self._candidate = state          # resumed or not at the first gait cycle
         self._walk_id = None             # the walk of the cycles counted
@@ -179,7 +184,7 @@ class ClassifierNode(PersistsState, Node):
                                  cycle_history_qos(values['cycle_history']))
         self.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
         if state is None:
-            self._publish_floor(self._floor)
+            self._publish_floor(self._floor, self._tracker.floor_certain)
             self.get_logger().info(f'start floor {self._floor}')
         else:
             self._publish_floor(state.floor, certain=False)
@@ -247,7 +252,7 @@ class ClassifierNode(PersistsState, Node):
             float(estimate.height_m)
         self._elevation_pub.publish(point)
         self._mode_pub.publish(Int8(data=int(estimate.mode)))
-        self._publish_floor(estimate.floor)
+        self._publish_floor(estimate.floor, estimate.floor_certain)
         if estimate.floor != self._floor:
             self.get_logger().info(f'floor {self._floor} -> {estimate.floor} (height '
                                    f'{estimate.height_m:.2f} m)')
@@ -298,15 +303,17 @@ class ClassifierNode(PersistsState, Node):
             self._resume_decision = f'starting fresh: {why}'
             self.get_logger().warning(self._resume_decision)
             self.get_logger().info(f'start floor {self._floor}')
-            self._publish_floor(self._floor)
+            self._publish_floor(self._floor, self._tracker.floor_certain)
             return
         self._tracker.reset(state.height_m)
+        self._tracker.risers.resume(state.step_height_m, state.riser_strides)
         self._last_stamp_ns, self._last_index = state.stamp_ns, state.cycle_index
         self._resumed = True
         self._floor = self._tracker.floor
         self._resume_decision = f'resuming: {why}'
-        self.get_logger().info(f'{self._resume_decision}; resumed floor {self._floor}')
-        self._publish_floor(self._floor)
+        self.get_logger().info(f'{self._resume_decision}; resumed floor {self._floor}, riser '
+                               f'height {self._tracker.step_height_m:.3f} m')
+        self._publish_floor(self._floor, self._tracker.floor_certain)
 
     def _note_cycle_index(self, index: int):
         if index > self._last_index + 1:
@@ -324,18 +331,20 @@ class ClassifierNode(PersistsState, Node):
         self._state_writer.submit(ElevationState(
             stamp_ns=self._last_stamp_ns, wall_time_s=time.time(),
             source_id=self._source_id, height_m=self._tracker.height_m,
-            floor=self._tracker.floor, cycle_index=self._last_index, walk_id=self._walk_id))
+            floor=self._tracker.floor, cycle_index=self._last_index, walk_id=self._walk_id,
+            step_height_m=self._tracker.step_height_m,
+            riser_strides=self._tracker.risers.strides))
 
     def _publish_floor_if_changed(self):
         floor = self._tracker.floor
         if floor != self._floor:
             self.get_logger().info(f'floor {self._floor} -> {floor} (parameters changed)')
             self._floor = floor
-            self._publish_floor(floor)
+            self._publish_floor(floor, self._tracker.floor_certain)
 
     def _publish_floor(self, floor: int, certain: bool = True):
         self._floor_pub.publish(Int32(data=int(floor)))
-        self._floor_certain_pub.publish(Bool(data=certain))
+        self._floor_certain_pub.publish(Bool(data=bool(certain)))
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""
@@ -358,6 +367,10 @@ class ClassifierNode(PersistsState, Node):
                   'implausible_cycles': tracker.implausible_cycles, 'missed_cycles': self._missed,
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
+                  'floor_certain': tracker.floor_certain,
+                  'step_height_m': tracker.step_height_m,
+                  'riser_strides': tracker.risers.strides,
+                  'stairwells': tracker.risers.stairwells,
                   'last_mode': self._last_mode, 'resumed': self._resumed,
                   'resume': self._resume_decision, 'resume_refusals': self._resume_refusals,
                   'state_write_errors': self._state_write_errors(),

@@ -28,7 +28,9 @@ every Imu message of the bag through the same objects the nodes run (input gate,
   row holds the position before the correction.
 - ``DIR/cycles.csv``: one row per gait cycle: ``stamp_ns,mode,height_m,x_m,y_m`` (stamp of
   the first stance sample closing the cycle, stair mode, quantised height), then ``floor``,
-  ``anfis_output``, ``valid``, ``raw_height_m`` (INS height) and the five features.
+  ``anfis_output``, ``valid``, ``raw_height_m`` (INS height), the five features, then
+  ``floor_certain`` (1 when the height is settled on the floor) and ``step_height_m`` (the riser
+  height K in use: the online estimate, or the building file's).
 """
 
 import argparse
@@ -53,7 +55,7 @@ from ..core.stair_database import stair_monitor_for
 
 TRACK_COLUMNS = ('stamp_ns', 'x_m', 'y_m', 'z_m', 'qw', 'qx', 'qy', 'qz', 'stance')
 CYCLE_COLUMNS = ('stamp_ns', 'mode', 'height_m', 'x_m', 'y_m', 'floor', 'anfis_output', 'valid',
-                 'raw_height_m') + FEATURE_NAMES
+                 'raw_height_m') + FEATURE_NAMES + ('floor_certain', 'step_height_m')
 PROGRESS_PERIOD_S = 5.0
 
 
@@ -150,7 +152,7 @@ def replay_recording(recording, pipeline, model, progress=None, building=None) -
     directions = building.dominant_directions_deg if map_alignment is not None else ()
     navigator = FootNavigator(pipeline.navigator, map_alignment=map_alignment,
                               dominant_directions_deg=directions or None)
-    tracker = ElevationTracker(model, pipeline.elevation)
+    tracker = ElevationTracker(model, pipeline.elevation, building=building)
     monitor = stair_monitor_for(building, aid.stair_fix_ratio)
     fixes = PositionFixQueue(aid.stair_fix_delay_s, aid.stair_fix_sigma_m)
     n = len(recording)
@@ -193,7 +195,8 @@ def cycle_row(cycle, tracker: ElevationTracker) -> tuple:
     estimate = tracker.update(cycle.stamp_ns, cycle.features, x_m, y_m, cycle.valid)
     return (cycle.stamp_ns, estimate.mode, estimate.height_m, x_m, y_m, estimate.floor,
             estimate.anfis_output, int(cycle.valid), raw_height_m,
-            *(float(f) for f in cycle.features))
+            *(float(f) for f in cycle.features), int(estimate.floor_certain),
+            estimate.step_height_m)
 
 
 def write_csv(path: Path, columns, rows, integer_columns=()) -> None:
@@ -232,7 +235,7 @@ def run_replay(args: argparse.Namespace) -> int:
               ((stamp, *row) for stamp, row in zip(result.track_stamp_ns.tolist(), result.track)),
               ('stamp_ns', 'stance'))
     write_csv(out / 'cycles.csv', CYCLE_COLUMNS, result.cycles,
-              ('stamp_ns', 'mode', 'floor', 'valid'))
+              ('stamp_ns', 'mode', 'floor', 'valid', 'floor_certain'))
     status = result.navigator.status
     if not status.initialised:
         raise InputError(f'{args.bag}: the foot never stood still long enough to start '
