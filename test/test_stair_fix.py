@@ -355,3 +355,21 @@ def test_replay_corrects_at_the_entries_and_not_without_stairs(stair_walk):
     assert [r[3:5] for r in fixed.cycles[:k - 1]] == [r[3:5] for r in plain.cycles[:k - 1]]
     shift = np.subtract(fixed.cycles[k][3:5], plain.cycles[k][3:5])
     assert 0.1 < shift[0] < 0.4 and -0.3 < shift[1] < 0.0
+
+
+def test_simulate_writes_the_seed003_building(tmp_path, capsys):
+    """``simulate --scenario seed003`` writes its building file, without an unknown stairwell."""
+    from anfis_elevation_ros.tools.cli import main
+    from anfis_elevation_ros.core.building import load_building
+
+    out = tmp_path / 'seed003'
+    assert main(['simulate', '--scenario', 'seed003', '--rate-hz', '50', '--unknown-stairwell',
+                 'D', '--out', str(out)]) == 0
+    building = load_building(out / 'building.yaml')
+    assert len(building.stairs) == 6 and 'D' not in {e.stairwell for e in building.stairs}
+    assert (building.start.x_m, building.start.y_m, building.start.heading_deg) == \
+        (12.3, 4.1, 90.0)
+    assert "IMU 'seed003'" in capsys.readouterr().err
+    assert main(['simulate', '--scenario', 'sample', '--unknown-stairwell', 'D', '--out',
+                 str(tmp_path / 'sample')]) == 1
+    assert '--unknown-stairwell applies to --scenario seed003 only' in capsys.readouterr().err

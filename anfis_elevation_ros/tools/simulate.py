@@ -17,6 +17,13 @@
 
 Writes ``OUT/imu`` (rosbag2 directory, sensor_msgs/msg/Imu on /imu/data), ``OUT/truth.csv``
 (per-sample truth) and ``OUT/strides.csv`` (per-stride truth); progress goes to stderr.
+The ``seed003`` scenario (``sim/seed003.py``: 1,126 m through two floors, four switchback
+stairwells a floor, its own tactical IMU unless ``--imu`` says otherwise) also writes its
+building file, ``OUT/building.yaml`` (stair entries at the true first steps, the entrance):
+``replay OUT/imu --building OUT/building.yaml`` then gives map coordinates and stair-entry
+corrections. ``--unknown-stairwell D`` leaves a stairwell out of the file (the walk still
+uses it). The truth files stay in the simulator's frame (start at 0, first strides along +x);
+the building's map frame puts the entrance at (12.3, 4.1) facing +y (``seed003.map_from_sim``).
 
 Example: ``python -m anfis_elevation_ros simulate --scenario building --seed 1 --out /tmp/sim``
 """
@@ -30,13 +37,15 @@ import numpy as np
 
 from .bags import write_imu_bag
 from .. import sim
+from ..core.building import save_building
 from ..core.errors import InputError
+from ..sim import seed003
 
 TRUTH_COLUMNS = ('stamp_ns', 'x_m', 'y_m', 'z_m', 'qw', 'qx', 'qy', 'qz', 'stance')
 STRIDE_COLUMNS = ('stamp_ns', 'mode', 'height_change_m', 'n_steps', 'height_m', 'step_height_m',
                   'swing_start_ns', 'start_x_m', 'start_y_m', 'start_z_m', 'end_x_m', 'end_y_m',
                   'end_z_m', 'heading_change_deg', 'segment_index')
-SCENARIOS = ('building', 'random', 'sample')
+SCENARIOS = ('building', 'random', 'sample', 'seed003')
 
 
 def add_parser(subparsers):
@@ -47,12 +56,14 @@ def add_parser(subparsers):
         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     parser.add_argument('--scenario', choices=SCENARIOS, default='sample',
                         help='building: 36 steps down, ~500 s level, back up (~640 s); random: '
-                        'random mix for training (see --duration-s); sample: ~65 s demo')
+                        'random mix for training (see --duration-s); sample: ~65 s demo; '
+                        'seed003: 1,126 m, two floors, four stairwells, with its building file')
     parser.add_argument('--out', required=True, type=Path,
                         help='output directory (created; OUT/imu must not exist)')
     parser.add_argument('--rate-hz', type=float, default=200.0, help='IMU sample rate')
-    parser.add_argument('--imu', choices=sorted(sim.IMU_PRESETS), default='consumer',
-                        help='IMU error preset')
+    parser.add_argument('--imu', choices=sorted(sim.IMU_PRESETS), default=None,
+                        help="IMU error preset (default: consumer; seed003: that scenario's "
+                        'tactical IMU, 150 deg/h gyro bias instability)')
     parser.add_argument('--seed', type=int, default=1, help='random seed (gait, IMU errors, '
                         'random scenario)')
     parser.add_argument('--storage', choices=('sqlite3', 'mcap'), default='sqlite3',
@@ -67,6 +78,8 @@ def add_parser(subparsers):
                         help='IMU mounting on the foot, C_fb (v_f = C_fb v_b); 180 0 0 is '
                         'z down')
     parser.add_argument('--frame-id', default='imu_link', help='header.frame_id of the messages')
+    parser.add_argument('--unknown-stairwell', default='', choices=('',) + seed003.STAIRWELLS,
+                        help='seed003: leave this stairwell out of the building file')
     parser.add_argument('--topic', default='/imu/data', help='Imu topic name')
     parser.set_defaults(handler=run_simulate)
     return parser
@@ -79,10 +92,13 @@ def run_simulate(args) -> int:
     bag_dir = args.out / 'imu'
     if bag_dir.exists():
         raise InputError(f'{bag_dir} exists; remove it or choose another --out')
+    imu = args.imu or ('consumer' if args.scenario != 'seed003' else seed003.SEED003_IMU)
+    if args.unknown_stairwell and args.scenario != 'seed003':
+        raise InputError('--unknown-stairwell applies to --scenario seed003 only')
     _log(f'simulating scenario {args.scenario!r}: {len(segments)} segments, '
-         f'{args.rate_hz:g} Hz, IMU {args.imu!r}, seed {args.seed}')
+         f'{args.rate_hz:g} Hz, IMU {getattr(imu, "name", imu)!r}, seed {args.seed}')
     walk = sim.simulate_walk(segments, rng=np.random.default_rng(args.seed),
-                             rate_hz=args.rate_hz, imu=args.imu,
+                             rate_hz=args.rate_hz, imu=imu,
                              mounting_rpy_deg=args.mounting_rpy_deg,
                              step_height_m=step_height_m)
     strides = walk.strides
@@ -100,6 +116,12 @@ def run_simulate(args) -> int:
     write_strides_csv(args.out / 'strides.csv', walk)
     _log(f'wrote {args.out / "truth.csv"} and {args.out / "strides.csv"} in '
          f'{time.monotonic() - started:.1f} s')
+    if args.scenario == 'seed003':
+        building = seed003.seed003_building(walk, seed003.seed003_walk()[1],
+                                            unknown=args.unknown_stairwell)
+        save_building(args.out / 'building.yaml', building)
+        _log(f'wrote {args.out / "building.yaml"} ({len(building.stairs)} stair entries)')
+    return 0
     return 0
 
 
@@ -110,6 +132,11 @@ def _scenario(args) -> tuple:
         return sim.building_walk(step_height_m=0.15 if k is None else k), 0.17
     if args.scenario == 'sample':
         return sim.sample_walk(), 0.17 if k is None else k
+    if args.scenario == 'seed003':
+        if k is not None:
+            raise InputError('--step-height-m does not apply to --scenario seed003 (its risers '
+                             f'are {seed003.STEP_HEIGHT_M} m, in its building file)')
+        return seed003.seed003_walk()[0], seed003.STEP_HEIGHT_M
     bounds = (0.14, 0.19) if k is None else (k, k)
     plan_rng = np.random.default_rng([args.seed, 1])   # independent of the simulation stream
     return sim.random_walk(args.duration_s, plan_rng, step_height_range_m=bounds), 0.17
