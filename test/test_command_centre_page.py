@@ -248,6 +248,13 @@ def test_page_without_a_building_draws_a_grid_and_the_floors_seen(browser):
         wait_until(browser, lambda d: 'EVACUATION ordered' in
                    d.find_element('id', 'incident-status').text, 'the evacuation order')
         assert incident.snapshot()['evacuation']['by'] == 'IC Page'
+
+        # Many alarms at once (a radio outage): three on the banner, the count of the rest.
+        for k in range(5):
+            incident.update_diagnostics(f'/crew/ff{k}', 2, 'imu_node: IMU input', 'lost')
+        wait_until(browser, lambda d: '+ 2 more unacknowledged alarms' in
+                   d.find_element('id', 'alarm-banner').text, 'the banner capped at three')
+        assert len(banner_lines(browser, 'ALARM')) == 3
     # The command centre stops: the page says so instead of showing stale positions as live.
     wait_until(browser, lambda d: 'NO CONNECTION' in d.find_element('id', 'connection').text,
                'the lost connection')

@@ -192,6 +192,22 @@ def test_push_stream_sends_a_change_within_a_second():
     assert latency < 1.0
 
 
+def test_push_stream_ends_soon_after_the_server_stops():
+    incident = Incident()
+    incident.update_floor('/ff1', 0)
+    with running_server(incident) as server:
+        host, port = server.server_address[:2]
+        connection = http.client.HTTPConnection(host, port, timeout=10)
+        connection.request('GET', '/api/events?since=0')
+        response = connection.getresponse()
+        read_event(response)
+        stopped = time.monotonic()
+    while response.fp.readline():       # until the server closes the stream
+        pass
+    connection.close()
+    assert time.monotonic() - stopped < 1.0 + web.CLOSING_POLL_S
+
+
 def test_push_stream_refuses_a_bad_since():
     with running_server(Incident()) as server:
         assert request(server, 'GET', '/api/events?since=abc')[0] == 400

@@ -47,12 +47,14 @@ from pathlib import Path
 import socket
 import ssl
 import threading
+import time
 from urllib.parse import parse_qs, urlsplit
 
 STATIC_DIR = Path(__file__).resolve().parent / 'static'
 MAX_BODY_BYTES = 16 * 1024
 PUSH_PERIOD_S = 0.25        # at most 4 pushes a second: the page stays within 1 s
 KEEPALIVE_S = 15.0
+CLOSING_POLL_S = 0.5        # an open push stream notices the server stopping within this
 MAX_STREAMS = 32            # open push streams (each holds a thread)
 REQUEST_TIMEOUT_S = 30.0    # a client that stalls mid-request is dropped
 MIN_TOKEN_CHARS = 16
@@ -236,11 +238,15 @@ class Handler(BaseHTTPRequestHandler):
         closing = self.server.closing
         self.wfile.write(b'retry: 1000\n\n')
         self.wfile.flush()
+        quiet_since = time.monotonic()
         while not closing.is_set():
-            if incident.wait_for_change(seq, KEEPALIVE_S) <= seq:
-                self.wfile.write(b': keepalive\n\n')
-                self.wfile.flush()
+            if incident.wait_for_change(seq, CLOSING_POLL_S) <= seq:
+                if time.monotonic() - quiet_since >= KEEPALIVE_S:
+                    self.wfile.write(b': keepalive\n\n')
+                    self.wfile.flush()
+                    quiet_since = time.monotonic()
                 continue
+            quiet_since = time.monotonic()
             seq, events = incident.events_since(seq)
             data = json.dumps({'seq': seq, 'events': events}, separators=(',', ':'))
             self.wfile.write(f'id: {seq}\nevent: batch\ndata: {data}\n\n'.encode())

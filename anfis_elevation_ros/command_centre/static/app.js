@@ -12,6 +12,8 @@
   const SHORT = { no_motion: 'MAN DOWN', lost_contact: 'LOST CONTACT',
     diagnostics_error: 'SENSOR ERROR', floor_unknown: 'FLOOR UNKNOWN' };
   const LOG_ROWS = 200;
+  const BANNER_LINES = 3;          // more alarms than this: the roster lists them
+  const PROBE_POINTS = 10000;      // latencies kept for the tests and the benchmark
   const ARROW_M = 2.0;
   const GRID_M = 5.0;
 
@@ -202,6 +204,9 @@
     const now = Date.now() / 1000;
     pendingStamps.forEach(function (stamp) { probe.latencies.push(now - stamp); });
     pendingStamps = [];
+    if (probe.latencies.length > PROBE_POINTS) {
+      probe.latencies.splice(0, probe.latencies.length - PROBE_POINTS);
+    }
     probe.renders += 1;
     probe.renderSeconds += (performance.now() - started) / 1000;
   }
@@ -270,7 +275,10 @@
     banner.hidden = open.length === 0;
     banner.classList.toggle('prealarm-only',
       open.length > 0 && open.every(function (p) { return p.alarm.severity === 'pre-alarm'; }));
-    setHtml('alarm-banner', open.map(function (p) {
+    const more = open.length > BANNER_LINES ?
+      '<div class="banner-more">+ ' + (open.length - BANNER_LINES) +
+      ' more unacknowledged alarms: see the roster</div>' : '';
+    setHtml('alarm-banner', open.slice(0, BANNER_LINES).map(function (p) {
       const a = p.alarm;
       return '<div class="banner-alarm" data-id="' + escapeHtml(p.responder.id) + '">' +
         '<span>' + (a.severity === 'alarm' ? 'ALARM' : 'PRE-ALARM') + ' \u2014 ' +
@@ -279,7 +287,7 @@
         utcTime(a.raised_unix_s) + ')</span>' +
         '<button type="button" class="ack" data-alarm="' + escapeHtml(a.id) +
         '">Acknowledge</button></div>';
-    }).join(''));
+    }).join('') + more);
   }
 
   function renderFloors() {
