@@ -66,9 +66,10 @@ class ResponderPlan:
         return self.route[-1]
 
 
-RESPONDERS = (ResponderPlan('/ff1', (0, 1), 3.0, 11),
-              ResponderPlan('/ff2', (0, 2), 3.0, 12),
-              ResponderPlan('/ff3', (0,), 40.0, 13))
+# Final stands chosen so that the three walks end within a few seconds of each other.
+RESPONDERS = (ResponderPlan('/ff1', (0, 1), 15.0, 11),
+              ResponderPlan('/ff2', (0, 2), 4.0, 12),
+              ResponderPlan('/ff3', (0,), 45.0, 13))
 
 
 def simulate_responder(plan: ResponderPlan, rate_hz: float = 100.0, imu: str = 'tactical'):

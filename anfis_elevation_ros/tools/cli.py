@@ -37,6 +37,7 @@ TOOL_MODULES = (
     'record',
     'run',
     'command_centre',
+    'discovery_server',
 )
 
 
