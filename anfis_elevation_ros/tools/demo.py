@@ -24,6 +24,9 @@ prints one line per gait cycle as the classifier publishes it, stops the nodes, 
 DDS discovery is kept on this machine (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) unless the
 environment says otherwise; set ROS_DOMAIN_ID to keep apart from other ROS 2 systems.
 
+``--responders 3`` runs the command-centre demo instead (``tools/incident_demo.py``): three
+simulated responders in one tower, each its own namespaced pair of nodes, and the incident map.
+
 Example: ``python -m anfis_elevation_ros demo --out /tmp/anfis_demo``
 """
 
@@ -86,6 +89,9 @@ class _Printer:
 
 def run_demo(args) -> int:
     """Run the demo; return the exit code."""
+    if args.responders > 1:
+        from .incident_demo import run_incident_demo
+        return run_incident_demo(args)
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
 
@@ -184,5 +190,11 @@ def add_parser(subparsers):
                         help='another Imu bag to play instead of the sample walk')
     parser.add_argument('--truth', type=Path, default=None,
                         help="truth CSV for the plot (default: the sample walk's strides.csv)")
+    parser.add_argument('--responders', type=int, choices=(1, 2, 3), default=1,
+                        help='2 or 3: simulated responders in one tower and the command centre')
+    parser.add_argument('--port', type=int, default=8088,
+                        help='--responders: port of the command-centre page (0 = any free)')
+    parser.add_argument('--keep-open', action='store_true',
+                        help='--responders: keep the command centre running until Ctrl-C')
     parser.set_defaults(handler=run_demo)
     return parser
