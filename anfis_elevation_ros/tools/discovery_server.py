@@ -82,7 +82,7 @@ def run_discovery_server(args) -> int:
         raise InputError(f'--port {args.port} is not a UDP port (1-65535)')
     command = server_command() + ['-i', str(args.server_id), '-l', str(address),
                                   '-p', str(args.port)]
-    shown = '<this machine\'s address>' if address.is_unspecified else str(address)
+    shown = "<this machine's address>" if address.is_unspecified else str(address)
     value = discovery_server_variable(shown, args.port, args.server_id)
     print(f'discovery-server: Fast DDS discovery server {args.server_id} on UDP '
           f'{address}:{args.port}; Ctrl-C to stop\n'
