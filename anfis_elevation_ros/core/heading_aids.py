@@ -20,8 +20,8 @@ Two pseudo-measurements bound them where their assumption holds:
 
 HDE, once per stride: buildings are built along a few dominant directions d_i (modulo 90
 deg), and people walk along them. When the stride's direction psi_s, from the positions of
-the stances at its ends, is within a tolerance of one and of the previous stride's direction
-(walking straight, not through a curve or a slalom that happens to cross d), the heading
+the stances at its ends, is within a tolerance of one and of the directions of the strides
+before it (walking straight, not through a curve or a slalom that crosses d), the heading
 error is measured as dpsi = d - psi_s (the stride was along d, the filter's heading is off by
 -dpsi). With the error state true = estimate + error and C_nb,true = (I + [dphi x]) C_nb,est,
 a yaw error dphi_z turns the whole track by dphi_z, so y = d - psi_s, H = [0 0 0 e_z 0]
@@ -43,6 +43,7 @@ References
 
 """
 
+from collections import deque
 from dataclasses import dataclass
 import math
 
@@ -64,6 +65,8 @@ class HeadingAidParams:
     hde_enabled : apply heuristic drift elimination at every stride.
     hde_tolerance_deg : a stride within this of a dominant direction is taken to be along it.
     hde_sigma_deg : standard deviation of the HDE heading measurement, deg.
+    hde_straight_strides : strides before this one whose directions must agree with it within
+        the tolerance (a straight walk, not a curve or a slalom).
     zaru_enabled : apply a zero angular rate update at every still stance.
     zaru_max_gyr_rps : the stance is still when no |w| of the detector window exceeds this.
     zaru_sigma_rps : standard deviation of the ZARU measurement, rad/s.
@@ -73,7 +76,8 @@ class HeadingAidParams:
 
     hde_enabled: bool = False
     hde_tolerance_deg: float = 4.0
-    hde_sigma_deg: float = 3.0
+    hde_sigma_deg: float = 2.0
+    hde_straight_strides: int = 2
     zaru_enabled: bool = False
     zaru_max_gyr_rps: float = 0.05
     zaru_sigma_rps: float = math.radians(0.5)
@@ -82,7 +86,7 @@ class HeadingAidParams:
     def __post_init__(self):
         for name, low, high in (('hde_tolerance_deg', 0.5, 45.0), ('hde_sigma_deg', 0.01, 90.0),
                                 ('zaru_max_gyr_rps', 1e-4, 1.0), ('zaru_sigma_rps', 1e-6, 1.0),
-                                ('min_stride_m', 0.05, 2.0)):
+                                ('hde_straight_strides', 1, 20), ('min_stride_m', 0.05, 2.0)):
             value = getattr(self, name)
             if not low <= value <= high:
                 raise InputError(f'{name} = {value} is outside [{low}, {high}]')
@@ -156,7 +160,7 @@ class HeadingAider:
         self.params = params
         self.directions_rad = None if directions_rad is None else list(directions_rad)
         self.last_pos_n = None
-        self.last_heading_rad = None
+        self.recent_headings_rad = deque(maxlen=params.hde_straight_strides + 1)
         self.hde_updates = 0
         self.zaru_updates = 0
 
@@ -184,15 +188,16 @@ class HeadingAider:
             self.last_pos_n = last       # turning on the spot: measure from the old stance
             return None
         heading = math.atan2(step[1], step[0])
-        previous, self.last_heading_rad = self.last_heading_rad, heading
+        recent = self.recent_headings_rad
+        recent.append(heading)
         if self.directions_rad is None:
             self.directions_rad = [heading % QUARTER_TURN_RAD]
             return None
         tolerance = math.radians(self.params.hde_tolerance_deg)
         offset = direction_offset(heading, self.directions_rad)
-        # Along a direction and straight on from the previous stride: not a curve or a slalom.
-        if abs(offset) > tolerance or previous is None \
-                or abs(math.remainder(heading - previous, 2.0 * math.pi)) > tolerance:
+        # Along a direction and straight on from the strides before: not a curve or a slalom.
+        if abs(offset) > tolerance or len(recent) < recent.maxlen or any(
+                abs(math.remainder(heading - h, 2.0 * math.pi)) > tolerance for h in recent):
             return None
         dx, P, _ = hde_correction(P, -offset, math.radians(self.params.hde_sigma_deg))
         self.hde_updates += 1

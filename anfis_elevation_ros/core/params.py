@@ -227,6 +227,9 @@ _DOCS = {
                                   'along it, deg.', 0.5, 45.0, _READ_ONLY),
     'heading.hde_sigma_deg': ('Standard deviation of the HDE heading measurement, deg.', 0.01,
                               90.0, _READ_ONLY),
+    'heading.hde_straight_strides': ('Strides before one whose directions must agree with it '
+                                     'within the tolerance for HDE (a straight walk).', 1, 20,
+                                     _READ_ONLY),
     'heading.zaru_enabled': ('Zero angular rate update of the gyro bias at each still stance.',
                              None, None, _READ_ONLY),
     'heading.zaru_max_gyr_rps': ('A stance is still for ZARU when no |w| of the detector window '
