@@ -15,11 +15,13 @@
 """Heading aids: the measurement functions against hand-computed cases, and HDE on real walks."""
 
 import math
+from types import SimpleNamespace
 
 from anfis_elevation_ros.core import ekf
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.heading_aids import direction_offset, hde_correction
-from anfis_elevation_ros.core.heading_aids import HeadingAider, HeadingAidParams
+from anfis_elevation_ros.core.heading_aids import hde_directions_deg, HeadingAider
+from anfis_elevation_ros.core.heading_aids import HeadingAidParams
 from anfis_elevation_ros.core.heading_aids import zaru_correction
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.tools import datasets
@@ -85,6 +87,14 @@ def test_hde_learns_the_direction_and_skips_curves_and_turns():
     assert walk_strides(HeadingAider(params, [0.0]), [10.0, -10.0, 10.0, -10.0]) == 0
     # Building directions are used from the first stride.
     assert walk_strides(HeadingAider(params, [math.radians(30.0)]), [31.0, 29.0, 30.0]) == 1
+
+
+def test_building_directions_hold_only_in_its_map_frame():
+    corridors = SimpleNamespace(dominant_directions_deg=(15.0,))
+    assert hde_directions_deg(corridors, True) == (15.0,)
+    assert hde_directions_deg(corridors, False) is None
+    assert hde_directions_deg(SimpleNamespace(dominant_directions_deg=()), True) is None
+    assert hde_directions_deg(None, True) is None
 
 
 def test_zaru_applies_only_when_the_foot_is_still():

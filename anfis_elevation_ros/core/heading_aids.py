@@ -145,6 +145,18 @@ def zaru_correction(P: np.ndarray, gyr_mean_b: np.ndarray, gyr_bias_b: np.ndarra
                              sigma_rps ** 2 * np.eye(3))
 
 
+def hde_directions_deg(building, in_map_frame: bool):
+    """
+    Return the building's dominant directions for HDE, or None to learn them from the walk.
+
+    The directions are in the building's frame: they hold only when the track is in it (a
+    building with a ``start``, ``core/map_frame.py``).
+    """
+    if building is None or not in_map_frame or not building.dominant_directions_deg:
+        return None
+    return tuple(building.dominant_directions_deg)
+
+
 class HeadingAider:
     """
     When and with what the heading aids apply, stride by stride (state: the last stance).

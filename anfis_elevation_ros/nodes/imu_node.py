@@ -109,6 +109,7 @@ from .state_writer import PersistsState
 from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
+from ..core.heading_aids import hde_directions_deg
 from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
 from ..core.input_gate import WRONG_UNITS
 from ..core.map_frame import map_alignment_for
@@ -152,10 +153,12 @@ class ImuNode(PersistsState, Node):
             self.get_logger().info(f'building {self._building.name or ""} loaded from '
                                    f'{self._building.source}')
         aid = building_aid_params_from_dict(values)
+        self._in_map_frame = self._building is not None and self._building.start is not None
+        self._hde_directions_deg = hde_directions_deg(self._building, self._in_map_frame)
         self._navigator = FootNavigator(
             self._navigator_params, map_alignment=map_alignment_for(self._building,
-                                                                    aid.align_strides))
-        self._in_map_frame = self._building is not None and self._building.start is not None
+                                                                    aid.align_strides),
+            dominant_directions_deg=self._hde_directions_deg)
         self._fixes = PositionFixQueue(aid.stair_fix_delay_s, aid.stair_fix_sigma_m)
         self._take_fixes = self._in_map_frame and bool(self._building.stairs)
         self._malformed_fixes = 0
@@ -386,7 +389,8 @@ class ImuNode(PersistsState, Node):
         self._navigator = FootNavigator(self._navigator_params,
                                         start_pos_n=(state.x_m, state.y_m, state.z_m),
                                         start_heading_rad=state.heading_rad,
-                                        start_sigmas=(state.pos_sigma_m, state.yaw_sigma_rad))
+                                        start_sigmas=(state.pos_sigma_m, state.yaw_sigma_rad),
+                                        dominant_directions_deg=self._hde_directions_deg)
         self._fixes.restore(state.stair_fixes)
         self._cycle_index = state.cycles
         self._last_cycle_stamp_ns = state.stamp_ns

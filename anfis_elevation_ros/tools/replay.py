@@ -45,6 +45,7 @@ import numpy as np
 from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES
+from ..core.heading_aids import hde_directions_deg
 from ..core.height import ElevationTracker
 from ..core.input_gate import InputGate
 from ..core.map_frame import map_alignment_for
@@ -148,10 +149,9 @@ def replay_recording(recording, pipeline, model, progress=None, building=None) -
     aid = pipeline.building_aid
     gate = InputGate(pipeline.gate)
     map_alignment = map_alignment_for(building, aid.align_strides)
-    # HDE along the building's corridors once the track is in its frame, else learned.
-    directions = building.dominant_directions_deg if map_alignment is not None else ()
     navigator = FootNavigator(pipeline.navigator, map_alignment=map_alignment,
-                              dominant_directions_deg=directions or None)
+                              dominant_directions_deg=hde_directions_deg(
+                                  building, map_alignment is not None))
     tracker = ElevationTracker(model, pipeline.elevation, building=building)
     monitor = stair_monitor_for(building, aid.stair_fix_ratio)
     fixes = PositionFixQueue(aid.stair_fix_delay_s, aid.stair_fix_sigma_m)
