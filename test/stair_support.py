@@ -59,8 +59,9 @@ def simulate_stair_walk(seed: int = 3, rate_hz: float = 100.0, imu='tactical'):
     return walk, entries
 
 
-def stair_walk_building(walk, entries, offset_m=(0.4, -0.3), stairs: bool = True) -> Building:
-    """Return the building of the walk: two floors, the entrance, the two entries (or none)."""
+def stair_walk_building(walk, entries, offset_m=(0.4, -0.3), stairs: bool = True,
+                        directions_deg=()) -> Building:
+    """Return the building of the walk: floors, entrance, the two entries (or none), corridors."""
     strides = walk.strides
     table = []
     for segment_index, floor, direction in entries if stairs else ():
@@ -71,4 +72,5 @@ def stair_walk_building(walk, entries, offset_m=(0.4, -0.3), stairs: bool = True
     return Building(name='stair walk', floors=(Floor(0, 0.0), Floor(1, 2 * STEPS * STEP_HEIGHT_M)),
                     step_height_m=STEP_HEIGHT_M, stairs=tuple(table),
                     start=Start(x_m=MAP_OFFSET_M[0], y_m=MAP_OFFSET_M[1], floor=0,
-                                heading_deg=MAP_HEADING_DEG))
+                                heading_deg=MAP_HEADING_DEG),
+                    dominant_directions_deg=tuple(directions_deg))

@@ -18,8 +18,10 @@ Live over DDS equals ``replay`` with a building file: the stair-entry correction
 The short stair walk of ``stair_support.py`` (about 50 s, tactical IMU, 100 Hz; a building
 file whose two stair entries are 0.5 m off the truth, so that each correction moves the track)
 is played at twice its recorded pace into ``run --building``; the same bag goes through
-``replay --building``. Every valid cycle's /elevation must hold the stamp, the quantised height
-and the x, y of replay, bit for bit: the classifier's correction requests reach the IMU node
+``replay --building``. Heuristic drift elimination is on, along the building's corridor
+directions (``dominant_directions_deg``), so that the heading aid's input is checked too.
+Every valid cycle's /elevation must hold the stamp, the quantised height and the x, y of
+replay, bit for bit: the classifier's correction requests reach the IMU node
 over ``stair_fix`` within milliseconds, and the node applies each at the first stance sample
 0.5 s of sensor time after its cycle, the sample replay applies it at (0.25 s of wall time at
 twice the pace: a margin of about 50 over the hand-over's latency). The diagnostics must count
@@ -50,10 +52,10 @@ def stair_walk(tmp_path_factory):
     recording = walk.to_recording()
     bag = write_imu_bag(root / 'imu', recording)
     building = root / 'building.yaml'
-    save_building(building, stair_walk_building(walk, entries))
+    save_building(building, stair_walk_building(walk, entries, directions_deg=(0.0,)))
     model = write_linear_model(root / 'model.json', STEP_HEIGHT_M)
     # th_st = 20 % of the distance walked: the walk is short (7 m to the first entry).
-    params = write_params(root / 'params.yaml', model,
+    params = write_params(root / 'params.yaml', model, imu={'heading.hde_enabled': True},
                           classifier={'building_aid.stair_fix_ratio': 0.2})
     return {'root': root, 'bag': bag, 'building': building, 'params': params,
             'messages': len(recording)}
