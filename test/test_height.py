@@ -466,3 +466,17 @@ def test_a_level_stretch_off_every_floor_moves_to_the_nearest_uncertain():
     stretch = [walker.stride(0) for _ in range(4)]
     assert [(e.floor, e.floor_certain) for e in stretch] == [
         (0, False), (0, False), (-2, False), (-2, False)]
+
+
+def test_a_height_settled_on_a_building_floor_takes_its_elevation():
+    tree = {'format': 'anfis_elevation_ros/building', 'version': 1,
+            'floors': [{'index': 0, 'elevation_m': 0.0}, {'index': 1, 'elevation_m': 2.88}]}
+    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K),
+                     building=building_from_dict(tree))
+    walker.flight(1, [1] * 19, 0.15)                          # 2.85 m: 3 cm short of the floor
+    level = walker.stride(0)
+    assert (level.floor, level.floor_certain, level.height_m) == (1, True, 2.88)
+    # Without a file the storeys are a guess: nothing is snapped.
+    free = _walker(ElevationParams(step_height_m=0.15, floor_height_m=2.88, **FIXED_K))
+    free.flight(1, [1] * 19, 0.15)
+    assert free.stride(0).height_m == pytest.approx(2.85, abs=1e-12)

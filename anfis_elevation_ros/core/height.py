@@ -35,6 +35,8 @@ height is a whole number of risers per stairwell, h = h_0 + sum_w K_w N_w (N_w: 
 climbed in stairwell w), so a later flight that sharpens K_w corrects the stairwell's earlier
 flights too, and coming back down the stairs one went up ends exactly where one started.
 K only changes during a flight, so a level stretch keeps its height (no floor flicker).
+With a building file, a height that settles on a floor (``core/floors.py``) becomes that
+floor's elevation: the file knows where its floors are, a riser count off by one does not.
 
 Lost cycles (our policy; the method does not cover them). A gait cycle with missing IMU samples
 (a gap) or an overlong swing is invalid: its features are not trusted, so it is not classified
@@ -68,7 +70,8 @@ from .classifier import as_classifier
 from .errors import InputError
 from .floors import _int_result, floor_index, floor_map_for, FloorSettler, round_half_away
 from .gait import FEATURE_NAMES
-from .riser_height import known_riser_height_m, LevelSlope, PRIOR_SIGMA_M
+from .riser_height import known_riser_height_m, LevelSlope, MAX_RISERS, PRIOR_SIGMA_M
+from .riser_height import riser_count_bounds
 from .riser_height import StairwellRiserHeights
 
 __all__ = ['bridged_step_count', 'CycleEstimate', 'ElevationParams', 'ElevationTracker',
@@ -194,11 +197,16 @@ def quantised_height_step(mode, dh_m, step_height_m: float):
     return step_height_m * steps if np.ndim(steps) else float(step_height_m * steps)
 
 
-def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float) -> int:
+def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float, low=None,
+                       high=None) -> int:
     """
     Signed risers of a whole flight with one riser height, eq. 14 summed over its strides.
 
-    N = C * sum_i w_i max(1, round(|dh_i| / K));   h_end - h_start = K N
+    N = C * sum_i w_i clip(max(1, round(|dh_i| / K)), n_low_i, n_high_i);   h_end - h_start = K N
+
+    The bounds are the riser counts the stride's horizontal length allows
+    (``riser_height.riser_count_bounds``, our addition): a stride whose height is off by half a
+    riser (an INS glitch after a landing turn) is still counted as its length says.
 
     Parameters
     ----------
@@ -210,6 +218,8 @@ def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float) -> int
         w_i: 1, plus the lost cycles bridged after stride i (they climbed as stride i).
     step_height_m : float > 0
         K, m.
+    low, high : (S,) arrays of int, or None
+        n_low_i, n_high_i; None: no bound.
 
     Returns
     -------
@@ -217,6 +227,8 @@ def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float) -> int
 
     """
     steps = quantised_step_count(1, np.asarray(abs_dh_m, dtype=float), step_height_m)
+    if low is not None:
+        steps = np.clip(steps, np.asarray(low), np.asarray(high))
     return int(mode * np.dot(steps, np.asarray(cycles, dtype=np.int64)))
 
 
@@ -382,8 +394,7 @@ class ElevationTracker:
         params = self.params
         self._base_height_m = float(height_m)
         self._flight_mode = MODE_LEVEL
-        self._flight_abs_dh_m = []
-        self._flight_cycles = []
+        self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self._last_mode = MODE_LEVEL
         self._last_abs_dh_m = 0.0
         self._last_xy = None
@@ -415,7 +426,7 @@ class ElevationTracker:
         floor_map = self._floor_map(params)
         self._base_height_m = self.height_m
         self.risers.forget_climbs()
-        self._flight_abs_dh_m, self._flight_cycles = [], []
+        self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self.params = params
         self.mode_threshold = mode_threshold
         self.risers.set_prior(params.step_height_m, params.step_height_sigma_m)
@@ -432,7 +443,7 @@ class ElevationTracker:
         if not self._flight_abs_dh_m:
             return 0
         return flight_riser_count(self._flight_mode, self._flight_abs_dh_m, self._flight_cycles,
-                                  self.step_height_m)
+                                  self.step_height_m, *zip(*self._flight_bounds))
 
     @property
     def step_height_m(self) -> float:
@@ -516,14 +527,27 @@ class ElevationTracker:
         if mode == MODE_LEVEL:
             self.slope.add_level(dh_m, length_m)
         else:
-            dh_m = self.slope.corrected(dh_m, length_m)
+            bounds = riser_count_bounds(length_m) if self.risers.estimating else \
+                riser_count_bounds(None)    # K known: eq. 14 as the patent has it
+            if bounds[1] <= MAX_RISERS:     # a length that fits stairs: correct the slope
+                dh_m = self.slope.corrected(dh_m, length_m)
             self.risers.add(dh_m, length_m)
             self._flight_abs_dh_m.append(abs(dh_m))
             self._flight_cycles.append(1)
+            self._flight_bounds.append(bounds)
             self._last_abs_dh_m = abs(dh_m)
         self._last_mode = mode
         self.floors.update(self.height_m, mode)
+        if self.floors.certain and self.building is not None:
+            self._snap_to_floor()
         return self._estimate(stamp_ns, mode, x_m, y_m, output, bridged)
+
+    def _snap_to_floor(self):
+        """Settled on a floor of the building file: the height is that floor's elevation."""
+        _, offset_m = self.floors.floor_map.nearest(self.height_m)
+        if offset_m:
+            self._base_height_m = self.height_m - offset_m
+            self.risers.forget_climbs()     # their height is in the base now
 
     def _bridge(self, mode: int) -> int:
         """Credit the invalid cycles before this one (:func:`bridged_step_count`)."""
@@ -539,6 +563,7 @@ class ElevationTracker:
             else:               # the flight started again at a parameter change
                 self._flight_abs_dh_m.append(self._last_abs_dh_m)
                 self._flight_cycles.append(lost)
+                self._flight_bounds.append(riser_count_bounds(None))
             self.bridged_cycles += lost
         else:
             self.unbridged_cycles += lost
@@ -547,7 +572,7 @@ class ElevationTracker:
     def _end_flight(self, mode: int):
         """Fix the current flight's riser count in its stairwell; start a flight of ``mode``."""
         self.risers.end_flight(self._flight_risers())
-        self._flight_abs_dh_m, self._flight_cycles = [], []
+        self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self._flight_mode = mode
 
     def _estimate(self, stamp_ns, mode, x_m, y_m, output, bridged=0) -> CycleEstimate:

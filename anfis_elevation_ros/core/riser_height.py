@@ -31,7 +31,7 @@ file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``
 
 Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`stride_log_likelihood`,
 :class:`RiserHeightEstimator`, :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
-:func:`known_riser_height_m`,
+:func:`known_riser_height_m`, :func:`riser_count_bounds`,
 :data:`K_GRID_M`.
 
 References
@@ -51,6 +51,9 @@ K_GRID_M = np.round(np.arange(0.130, 0.2105, 0.001), 3)
 
 MAX_RISERS = 4
 """At most this many risers in one stride."""
+
+UNBOUNDED_RISERS = 1000
+"""Upper bound of a stride's riser count when its length says nothing."""
 
 RISER_COUNT_PRIOR = np.array([0.4, 0.4, 0.15, 0.05])
 """pi(n), n = 1..4: step-to and alternating gaits are common, skipping steps is rare."""
@@ -118,6 +121,21 @@ def allowed_riser_counts(length_m: Optional[float]) -> np.ndarray:
     low, high = TREAD_RANGE_M
     allowed = (counts * low <= length_m) & (length_m <= counts * high)
     return allowed if allowed.any() else np.ones(MAX_RISERS, dtype=bool)
+
+
+def riser_count_bounds(length_m: Optional[float]) -> tuple:
+    """
+    Fewest and most risers a stride of horizontal length L can have, (n_low, n_high).
+
+    The ends of :func:`allowed_riser_counts`; (1, a large number) when the length allows no
+    count or is unknown.
+    """
+    if length_m is None or not math.isfinite(length_m):
+        return 1, UNBOUNDED_RISERS
+    counts = np.flatnonzero(allowed_riser_counts(length_m)) + 1
+    if len(counts) == MAX_RISERS:
+        return 1, UNBOUNDED_RISERS
+    return int(counts[0]), int(counts[-1])
 
 
 def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
@@ -392,6 +410,11 @@ class StairwellRiserHeights:
         """Return the stair strides behind the current estimate."""
         estimator = self._template if self._index is None else self._wells[self._index][0]
         return estimator.strides + self._flight_strides * (self._open_flight() is not None)
+
+    @property
+    def estimating(self) -> bool:
+        """Return whether K is estimated (not the file's, not taken as known)."""
+        return self._template.estimating
 
     @property
     def stairwells(self) -> int:

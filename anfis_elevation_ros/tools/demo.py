@@ -21,6 +21,9 @@ bundled sample bag ``anfis_elevation_ros/data/sample_walk/imu`` (a simulated 67 
 prints one line per gait cycle as the classifier publishes it, stops the nodes, and writes
 ``OUT/height.png`` (quantised height, raw INS height and the true height; floor below).
 
+``--building FILE`` gives both nodes a building file (``run --building``): floors from its
+elevations, its riser height if it has one (else estimated online).
+
 DDS discovery is kept on this machine (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) unless the
 environment says otherwise; set ROS_DOMAIN_ID to keep apart from other ROS 2 systems.
 
@@ -95,6 +98,7 @@ def run_demo(args) -> int:
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
 
+    from ..core.building import load_building
     from .bags import read_imu_bag
     from .plot import plot_height, read_outputs_bag, read_truth_csv
     from .ros_io import CycleListener, ImuPlayer
@@ -116,6 +120,9 @@ def run_demo(args) -> int:
     command = [sys.executable, '-m', 'anfis_elevation_ros', 'run', '--record', str(outputs)]
     if args.params is not None:
         command += ['--params', str(args.params)]
+    if args.building is not None:
+        load_building(args.building)            # a bad file stops here, with its key named
+        command += ['--building', str(Path(args.building).resolve())]
     command += ['--ros-args', '-p', f'state_dir:={state_dir}']
     _log(f'starting the nodes: {" ".join(command[1:])}')
     started = time.monotonic()
@@ -188,6 +195,9 @@ def add_parser(subparsers):
                         help='ROS 2 parameter YAML for the nodes')
     parser.add_argument('--bag', type=Path, default=None,
                         help='another Imu bag to play instead of the sample walk')
+    parser.add_argument('--building', type=Path, default=None, metavar='FILE',
+                        help='building file for both nodes (floors, riser height; format in the '
+                        'README)')
     parser.add_argument('--truth', type=Path, default=None,
                         help="truth CSV for the plot (default: the sample walk's strides.csv)")
     parser.add_argument('--responders', type=int, choices=(1, 2, 3), default=1,

@@ -1,0 +1,235 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Benchmark of the online riser height and the floors (issue 13): simulated walks, K not given.
+
+Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_riser_height.py
+[--out DIR]`` (a script, not a test; about 10 minutes on one core). Every walk runs through
+``replay_recording`` with the packaged model and the default parameters (prior K = 0.17 m),
+at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
+
+- ``floors``: towers of 4-6 floors with one stairwell and a taller lobby
+  (``sim.tower_walk``; storeys of about 3 m, the lobby about 4.2 m, risers 0.14-0.19 m),
+  with a building file that gives only the floors: at every level cycle whose true height is
+  a floor's (truth: a level stride at a floor elevation), the floor must be right and
+  ``floor_certain`` true, and |height error| <= 0.15 m;
+- ``nofile``: the same kind of tower, 10-minute walks up and down several floors, no
+  building file (storeys of ``floor_height_m`` = 3 m): |height error| at every cycle
+  <= 0.15 m (tactical) / 0.30 m (consumer); and, harder than any building, 10-minute
+  ``sim.random_walk`` s whose every flight has its own riser height;
+- ``file``: the tower walks again with the building file's ``step_height_m``: the height
+  must be exact (|error| < 1 mm at every cycle the mode is right);
+- ``seed``: the seed's 640 s walk (``sim.building_walk``: down 36 steps of 0.15 m, 500 s of
+  corridors, back up): max |height error| <= 0.15 m, final error 0.
+
+The truth height of a cycle is that of the last true stride ending up to 0.2 s after it.
+With ``--out DIR`` it writes ``riser_convergence.png``: the estimate of K over the first
+flights of a tower walk (prior 0.17 m, truth 0.15 m) and the height error. Exit status 1
+when a case misses its requirement.
+"""
+
+import argparse
+from pathlib import Path
+import sys
+
+from anfis_elevation_ros import sim
+from anfis_elevation_ros.core.building import building_from_dict
+from anfis_elevation_ros.core.params import load_model, load_pipeline_params
+from anfis_elevation_ros.tools.replay import CYCLE_COLUMNS, replay_recording
+import numpy as np
+
+RATE_HZ = 100.0
+IMUS = ('tactical', 'consumer')
+RISERS_M = (0.14, 0.155, 0.17, 0.19)
+TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
+LONG_ROUTE = (0, 4, 1, 3, 0, 2, 4, 1, 0)                                  # ~10 minutes
+COLUMN = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
+
+
+def storey_steps(k_m: float, floors: int) -> tuple:
+    """Return the steps per storey: storeys of about 3 m, a lobby of about 4.2 m (even counts)."""
+    def even(height_m):
+        return int(2 * round(height_m / k_m / 2))
+    return (even(4.2),) + (even(3.0),) * (floors - 2)
+
+
+def building(elevations_m, k_m=None) -> object:
+    """Return a building with these floors (and this riser height), no start, no stairs."""
+    tree = {'format': 'anfis_elevation_ros/building', 'version': 1, 'name': 'bench tower',
+            'floors': [{'index': i, 'elevation_m': float(e)} for i, e in enumerate(elevations_m)]}
+    if k_m is not None:
+        tree['step_height_m'] = float(k_m)
+    return building_from_dict(tree)
+
+
+def replay(walk, the_building=None):
+    """Replay a walk with the default parameters; return per-cycle arrays and truth."""
+    result = replay_recording(walk.to_recording(), PIPELINE, MODEL, building=the_building)
+    rows = np.array([[float(v) for v in row] for row in result.cycles])
+    stamp = np.array([row[0] for row in result.cycles], dtype=np.int64)
+    strides = walk.strides
+    k = np.searchsorted(strides.stamp_ns, stamp + 200_000_000, side='right') - 1
+    return {'height': rows[:, COLUMN['height_m']], 'floor': rows[:, COLUMN['floor']].astype(int),
+            'certain': rows[:, COLUMN['floor_certain']].astype(bool),
+            'k': rows[:, COLUMN['step_height_m']], 'mode': rows[:, COLUMN['mode']].astype(int),
+            'true_height': strides.height_m[k], 'true_mode': strides.mode[k],
+            'stamp_s': (stamp - stamp[0]) * 1e-9}
+
+
+def tower(floors, k_m, imu, seed, route=None):
+    """Simulate a tower walk; return (walk, floor elevations)."""
+    steps = storey_steps(k_m, floors)
+    segments = sim.tower_walk(route or TOWERS[floors], storey_steps=steps, step_height_m=k_m)
+    walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed), rate_hz=RATE_HZ,
+                             imu=imu, step_height_m=k_m)
+    return walk, sim.tower_floor_elevations_m(steps, k_m)
+
+
+def on_floor_level_cycles(out, elevations_m):
+    """Return the cycles whose true stride is level at a floor elevation, and its index."""
+    distance = np.abs(out['true_height'][:, None] - elevations_m[None, :])
+    floor = np.argmin(distance, axis=1)
+    return (out['true_mode'] == 0) & (distance.min(axis=1) < 0.01), floor
+
+
+def case_floors_and_file(failures):
+    """Run towers with a floors-only file, and with the file's riser height."""
+    print('case floors (file with floors only) and file (file with step_height_m)')
+    print(f'{"imu":9s} {"floors":>6s} {"K":>6s} {"dur s":>6s} | {"level@floor":>11s} '
+          f'{"wrong fl":>8s} {"uncertain":>9s} {"max|err|":>8s} {"K end":>6s} | '
+          f'{"file max|err|":>13s}')
+    seed = 100
+    for imu in IMUS:
+        for floors, k_m in zip((4, 5, 6, 5), RISERS_M):
+            seed += 1
+            walk, elevations = tower(floors, k_m, imu, seed)
+            out = replay(walk, building(elevations))
+            mask, truth = on_floor_level_cycles(out, elevations)
+            wrong = int(np.sum(out['floor'][mask] != truth[mask]))
+            uncertain = int(np.sum(~out['certain'][mask]))
+            err = np.abs(out['height'] - out['true_height'])[mask].max()
+            exact = replay(walk, building(elevations, k_m))
+            right_mode = exact['mode'] == exact['true_mode']
+            file_err = np.abs(exact['height'] - exact['true_height'])[right_mode].max()
+            print(f'{imu:9s} {floors:6d} {k_m:6.3f} {out["stamp_s"][-1]:6.0f} | '
+                  f'{int(mask.sum()):11d} {wrong:8d} {uncertain:9d} {err:8.3f} '
+                  f'{out["k"][-1]:6.3f} | {file_err:13.4f}')
+            if wrong or uncertain or err > 0.15:
+                failures.append(f'floors {imu} {floors} floors K {k_m}')
+            if file_err > 0.001:
+                failures.append(f'file {imu} {floors} floors K {k_m}')
+
+
+def case_no_file(failures):
+    """Run 10-minute walks without a building file: height error at every cycle."""
+    print('case nofile (no building file, every cycle)')
+    print(f'{"imu":9s} {"walk":22s} {"dur s":>6s} {"cycles":>6s} {"max|err|":>8s} '
+          f'{"final":>7s} {"limit":>5s}')
+    seed = 200
+    for imu in IMUS:
+        limit = 0.15 if imu == 'tactical' else 0.30
+        for k_m in RISERS_M:
+            seed += 1
+            walk, _ = tower(5, k_m, imu, seed, LONG_ROUTE)
+            out = replay(walk)
+            err = out['height'] - out['true_height']
+            print(f'{imu:9s} {f"tower K {k_m:.3f}":22s} {out["stamp_s"][-1]:6.0f} '
+                  f'{len(err):6d} {np.abs(err).max():8.3f} {err[-1]:+7.3f} {limit:5.2f}')
+            if np.abs(err).max() > limit:
+                failures.append(f'nofile {imu} tower K {k_m}')
+        for rseed in (11, 12, 13):
+            walk = sim.simulate_walk(sim.random_walk(600.0, np.random.default_rng(rseed)),
+                                     rng=np.random.default_rng(rseed), rate_hz=RATE_HZ, imu=imu)
+            out = replay(walk)
+            err = out['height'] - out['true_height']
+            print(f'{imu:9s} {f"random_walk seed {rseed}":22s} {out["stamp_s"][-1]:6.0f} '
+                  f'{len(err):6d} {np.abs(err).max():8.3f} {err[-1]:+7.3f} {limit:5.2f} '
+                  '(a K per flight)')
+            if np.abs(err).max() > limit:
+                failures.append(f'nofile {imu} random_walk seed {rseed}')
+
+
+def case_seed(failures):
+    """Run the seed's 640 s walk with the default parameters."""
+    print('case seed (building_walk: down 36 x 0.15 m, 500 s corridors, back up)')
+    for imu in IMUS:
+        walk = sim.simulate_walk(sim.building_walk(), rng=np.random.default_rng(0),
+                                 rate_hz=RATE_HZ, imu=imu, step_height_m=0.15)
+        out = replay(walk)
+        err = out['height'] - out['true_height']
+        print(f'{imu:9s} max|err| {np.abs(err).max():.3f} m, final {err[-1]:+.3f} m, K at the '
+              f'end {out["k"][-1]:.3f} m')
+        if np.abs(err).max() > 0.15 or abs(err[-1]) > 1e-9:
+            failures.append(f'seed {imu}')
+
+
+def plot_convergence(out_dir: Path):
+    """Write riser_convergence.png: K per cycle over the first flights, and the height error."""
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+
+    walk, _ = tower(5, 0.15, 'tactical', 7, (0, 2, 0))
+    out = replay(walk)
+    stairs = np.flatnonzero(out['mode'] != 0)
+    end = min(len(out['k']), stairs[-1] + 3) if len(stairs) else len(out['k'])
+    t = out['stamp_s'][:end]
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(8, 5.5))
+    top.step(t, 1000 * out['k'][:end], where='post', label='estimate K')
+    top.axhline(150, color='k', ls='--', lw=0.8, label='true riser 150 mm')
+    top.axhline(170, color='grey', ls=':', lw=0.8, label='prior 170 mm')
+    top.fill_between(t, 125, 215, where=out['mode'][:end] != 0, color='orange', alpha=0.15,
+                     step='post', label='stair cycles')
+    top.set_ylabel('riser height K, mm')
+    top.set_ylim(125, 215)
+    top.legend(loc='upper right', fontsize=8)
+    top.set_title('Online riser height, tower walk 0 -> 2 -> 0 (tactical IMU, 100 Hz)')
+    bottom.plot(t, 100 * (out['height'] - out['true_height'])[:end], '.-')
+    bottom.set_ylabel('height error, cm')
+    bottom.set_xlabel('time, s')
+    fig.tight_layout()
+    path = out_dir / 'riser_convergence.png'
+    fig.savefig(path, dpi=110)
+    print(f'wrote {path}')
+
+
+def main(argv=None) -> int:
+    """Run the cases; return 1 when one misses its requirement."""
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--out', default=None, help='directory for riser_convergence.png')
+    parser.add_argument('--cases', default='seed,floors,nofile',
+                        help='comma-separated subset of seed, floors (includes file), nofile')
+    args = parser.parse_args(argv)
+    failures = []
+    cases = args.cases.split(',')
+    if 'seed' in cases:
+        case_seed(failures)
+    if 'floors' in cases:
+        case_floors_and_file(failures)
+    if 'nofile' in cases:
+        case_no_file(failures)
+    if args.out:
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        plot_convergence(Path(args.out))
+    print('all requirements met' if not failures else f'missed: {"; ".join(failures)}')
+    return 1 if failures else 0
+
+
+MODEL = load_model('')
+PIPELINE = load_pipeline_params()
+
+if __name__ == '__main__':
+    sys.exit(main())
