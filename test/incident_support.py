@@ -104,8 +104,9 @@ def wait_state(url: str, condition, timeout_s: float, what: str) -> dict:
         if condition(state):
             return state
         if time.monotonic() > deadline:
+            seen = [(r['id'], r['floor'], r['x_m']) for r in state['responders']]
             raise AssertionError(f'/api/state did not show {what} within {timeout_s:g} s: '
-                                 f'{[(r["id"], r["floor"], r["x_m"]) for r in state["responders"]]}')
+                                 f'{seen}')
         time.sleep(0.25)
 
 
