@@ -22,7 +22,10 @@ pipeline (``replay_recording``, the default model) three times on the same readi
 
 - plain: the building's map frame only (no ``stairs``): the ZUPT filter alone;
 - database: the whole building file: corrections at the stair entries;
-- unknown: the file without stairwell D, the walk still goes through D.
+- unknown: the file without stairwell D, the walk still goes through D;
+- with ``--hde``, also plain+hde and database+hde: heuristic drift elimination
+  (``heading.hde_enabled``) along the corridors, the building's ``dominant_directions_deg``
+  = 0 (the map frame's axes).
 
 Error: horizontal distance between each valid gait cycle's x/y (map frame) and the true
 position of the foot at the end of the stride it closes (stamps matched), mean and max over the
@@ -32,6 +35,7 @@ must be none).
 """
 
 import argparse
+from dataclasses import replace
 import sys
 import time
 
@@ -59,7 +63,7 @@ def horizontal_errors(result, walk) -> np.ndarray:
     return np.array(errors)
 
 
-def run_seed(seed: int, rate_hz: float, model, pipeline) -> dict:
+def run_seed(seed: int, rate_hz: float, model, pipeline, hde: bool = False) -> dict:
     """Simulate one walk and replay it plain, with the database and with an unknown stairwell."""
     segments, transitions = seed003_walk()
     walk = simulate_walk(segments, rng=np.random.default_rng(seed), rate_hz=rate_hz,
@@ -68,12 +72,20 @@ def run_seed(seed: int, rate_hz: float, model, pipeline) -> dict:
     variants = {'plain': Building(name=full.name, floors=full.floors, start=full.start),
                 'database': full,
                 'unknown': seed003_building(walk, transitions, unknown='D')}
+    if hde:
+        for name in ('plain', 'database'):
+            variants[f'{name}+hde'] = replace(variants[name], dominant_directions_deg=(0.0,))
     distance_m = float(np.sum(np.hypot(*np.diff(walk.pos_n[:, :2], axis=0).T)))
     rows = {}
     d_segments = {index for index, stairwell, _, _ in transitions if stairwell == 'D'}
     d_stamps = walk.strides.stamp_ns[np.isin(walk.strides.segment_index, list(d_segments))]
     for name, building in variants.items():
-        result = replay_recording(walk.to_recording(), pipeline, model, building=building)
+        settings = pipeline
+        if name.endswith('+hde'):
+            navigator = pipeline.navigator
+            settings = replace(pipeline, navigator=replace(
+                navigator, heading=replace(navigator.heading, hde_enabled=True)))
+        result = replay_recording(walk.to_recording(), settings, model, building=building)
         errors = horizontal_errors(result, walk)
         monitor = result.stair_monitor
         at_d = 0
@@ -98,13 +110,15 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--seeds', type=int, nargs='+', default=[3])
     parser.add_argument('--rate-hz', type=float, default=100.0)
+    parser.add_argument('--hde', action='store_true',
+                        help='also replay with heuristic drift elimination along the corridors')
     args = parser.parse_args(argv)
     pipeline = load_pipeline_params()
     model = load_model(pipeline.model_path)
     missed = False
     for seed in args.seeds:
         start = time.monotonic()
-        out = run_seed(seed, args.rate_hz, model, pipeline)
+        out = run_seed(seed, args.rate_hz, model, pipeline, args.hde)
         print(f'seed {seed}: {out["distance_m"]:.0f} m walked, {out["strides"]} strides, '
               f'{args.rate_hz:.0f} Hz ({time.monotonic() - start:.0f} s)')
         for name, r in out['rows'].items():
