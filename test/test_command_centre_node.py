@@ -169,3 +169,25 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     pubs['/ff8']['elevation'].publish(bad)
     assert wait_for(lambda: sum(centre.incident.snapshot()['rejected'].values()) == 1, 10.0)
     assert responder('/ff7')['x_m'] == 1.5 and responder('/ff7')['floor'] == 1
+
+
+@pytest.mark.parametrize('args, message', [
+    (['--building', 'BAD'], 'floors'),                   # a building file that does not parse
+    (['--host', '0.0.0.0', '--port', '0'], 'refusing to serve 0.0.0.0 over plain HTTP'),
+    (['--tls-cert', 'cert.pem', '--port', '0'], 'tls_cert_file and tls_key_file go together'),
+])
+def test_command_centre_refuses_to_start_in_one_line(tmp_path, args, message):
+    """A bad building, the LAN without TLS, half a TLS pair: exit code 1, one line, why."""
+    import subprocess
+
+    from live_support import cli, cli_env, PACKAGE_ROOT
+
+    bad = tmp_path / 'bad.yaml'
+    bad.write_text('format: anfis_elevation_ros/building\nversion: 1\nfloors: high\n')
+    args = [str(bad) if a == 'BAD' else a for a in args]
+    done = subprocess.run(cli('command-centre', *args), env=cli_env(), cwd=PACKAGE_ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, done.stderr
+    errors = [line for line in done.stderr.splitlines() if line.startswith('error:')]
+    assert len(errors) == 1 and message in errors[0], done.stderr
+    assert 'Traceback' not in done.stderr

@@ -58,7 +58,7 @@ from .qos import DIAGNOSTICS_QOS, LATEST_QOS
 from .stamps import stamp_to_ns
 from ..core.building import load_building_file
 from ..core.errors import InputError
-from ..core.params import ALARM_PREFIX, COMMAND_CENTRE_NODE
+from ..core.params import ALARM_PREFIX, check_command_centre_params, COMMAND_CENTRE_NODE
 
 ELEVATION = 'elevation'
 ELEVATION_TYPE = 'geometry_msgs/msg/PointStamped'
@@ -155,6 +155,7 @@ class CommandCentreNode(Node):
 
         super().__init__(COMMAND_CENTRE_NODE, **node_kwargs)
         self.values = declare_node_parameters(self, COMMAND_CENTRE_NODE)
+        check_command_centre_params(self.values)
         building = load_building_file(self.values['building_file'])
         alarm = {name[len(ALARM_PREFIX):]: value for name, value in self.values.items()
                  if name.startswith(ALARM_PREFIX)}

@@ -72,7 +72,8 @@ def serve(node, token: str):
         try:
             tls = tls_context_from_files(values['tls_cert_file'], values['tls_key_file'])
         except (OSError, ValueError) as err:
-            raise InputError(f'cannot use the TLS certificate and key: {err}') from None
+            raise InputError(f"cannot use the TLS certificate {values['tls_cert_file']} and "
+                             f"key {values['tls_key_file']}: {err}") from None
     try:
         return make_server(node.incident, values['host'], values['port'], token, tls,
                            insecure=values['insecure'])
