@@ -14,8 +14,10 @@
 
 """Online riser height: synthetic flights with unknown risers per stride, a wrong prior, noise."""
 
-from anfis_elevation_ros.core.riser_height import allowed_riser_counts, K_GRID_M, log_prior
+from anfis_elevation_ros.core.riser_height import allowed_riser_counts, K_GRID_M, level_slope
+from anfis_elevation_ros.core.riser_height import LevelSlope, log_prior, riser_count_bounds
 from anfis_elevation_ros.core.riser_height import RiserHeightEstimator, stride_log_likelihood
+from anfis_elevation_ros.core.riser_height import StairwellRiserHeights
 import numpy as np
 import pytest
 
@@ -97,3 +99,49 @@ def test_bad_heights_are_refused(bad):
 def test_a_non_finite_stride_is_refused():
     with pytest.raises(ValueError, match='finite'):
         RiserHeightEstimator(0.17).add(float('nan'))
+
+
+def test_riser_count_bounds_follow_the_stride_length():
+    assert riser_count_bounds(0.56) == (2, 2)
+    assert riser_count_bounds(0.84) == (3, 4)
+    assert riser_count_bounds(0.28) == (1, 1)
+    for unknown in (None, float('nan'), 5.0, 0.05):
+        assert riser_count_bounds(unknown)[0] == 1 and riser_count_bounds(unknown)[1] > 100
+
+
+def test_level_slope_is_the_median_height_per_metre():
+    assert level_slope([]) == 0.0
+    slope = LevelSlope()
+    for dh in (0.028, 0.030, 0.5, 0.026):           # one glitch: the median ignores it
+        slope.add_level(dh, 1.4)
+    slope.add_level(0.2, 0.3)                       # too short to say anything
+    assert slope.slope == pytest.approx(0.029 / 1.4 * 1.0, rel=0.05)
+    assert slope.corrected(0.30 + 0.56 * slope.slope, 0.56) == pytest.approx(0.30)
+    assert slope.corrected(0.31, None) == 0.31
+
+
+def test_flights_of_one_riser_height_share_a_stairwell_another_gets_its_own():
+    wells = StairwellRiserHeights(0.17)
+    rng = np.random.default_rng(9)
+    for k_m, expected_wells in ((0.15, 1), (0.15, 1), (0.19, 2), (0.151, 2)):
+        wells.start_flight()
+        for dh, length in zip(*flight(k_m, [2] * 6, rng)):
+            wells.add(dh, length)
+        assert wells.estimate_m == pytest.approx(k_m, abs=0.002)
+        wells.end_flight(12)
+        assert wells.stairwells == expected_wells
+    # N_w risers per stairwell with the latest K_w: 3 x 12 risers of ~0.15, 12 of ~0.19.
+    assert wells.climbed_m == pytest.approx(36 * 0.15 + 12 * 0.19, abs=0.06)
+    wells.forget_climbs()
+    assert wells.climbed_m == 0.0
+
+
+def test_a_resumed_estimate_is_a_narrow_prior():
+    estimator = RiserHeightEstimator(0.17)
+    estimator.resume(0.152, 20)
+    assert estimator.estimate_m == 0.152 and estimator.strides == 20
+    estimator.add(0.33, 0.56)                        # one stride of 0.165 m does not undo it
+    assert estimator.estimate_m == pytest.approx(0.152, abs=0.002)
+    fixed = RiserHeightEstimator(0.17, prior_sigma_m=0.0)
+    fixed.add(0.30, 0.56)
+    assert not fixed.estimating and fixed.estimate_m == 0.17

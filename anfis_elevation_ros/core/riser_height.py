@@ -29,10 +29,15 @@ risers of 0.195 m look like 3 of 0.13 m; the stride length tells them apart, and
 pi(n) prefers the smaller count (:data:`RISER_COUNT_PRIOR`). A riser height the building
 file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``).
 
-Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`stride_log_likelihood`,
-:class:`RiserHeightEstimator`, :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
-:func:`known_riser_height_m`, :func:`riser_count_bounds`,
-:data:`K_GRID_M`.
+One estimate per stairwell (:class:`StairwellRiserHeights`): each flight joins the stairwell
+whose posterior explains its strides best, or starts a new one (:func:`stairwell_evidence`).
+Before a stride reaches the estimate its slope error is removed (:class:`LevelSlope`,
+:func:`level_slope`: the raw height per horizontal metre measured on level strides).
+
+Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`riser_count_bounds`,
+:func:`stride_log_likelihood`, :class:`RiserHeightEstimator`, :class:`StairwellRiserHeights`,
+:func:`stairwell_evidence`, :class:`LevelSlope`, :func:`level_slope`,
+:func:`known_riser_height_m`, :data:`K_GRID_M`.
 
 References
 ----------
@@ -76,8 +81,8 @@ SLOPE_STRIDES = 64
 SLOPE_MIN_LENGTH_M = 0.5
 """Shorter level strides (turns, shuffles) say little about the slope, m."""
 
-RESUMED_SIGMA_M = 0.002
-"""Narrowest prior of a resumed estimate, m (twice the grid step)."""
+RESUMED_SIGMA_M = 0.001
+"""Narrowest prior of a resumed estimate, m (the grid step)."""
 
 
 def log_prior(k_grid_m: np.ndarray, prior_m: float, sigma_m: float = PRIOR_SIGMA_M):
@@ -230,15 +235,16 @@ class RiserHeightEstimator:
         Carry on from a saved estimate of ``strides`` strides (a restart).
 
         The strides themselves are not saved: the prior in use becomes a Gaussian around the
-        saved estimate, as narrow as a posterior of that many strides,
-        sigma_K / sqrt(1 + strides), at least :data:`RESUMED_SIGMA_M`.
+        saved estimate, as narrow as a posterior of that many strides of two risers,
+        sigma / (2 sqrt(strides)) (sigma = :data:`STRIDE_SIGMA_M`), at least
+        :data:`RESUMED_SIGMA_M`.
         """
         _check_riser('estimate_m', estimate_m)
         self.reset()
         self.strides = max(0, int(strides))
         if self.estimating and self.strides:
             self._prior_in_use = (float(estimate_m), max(
-                RESUMED_SIGMA_M, self.prior_sigma_m / math.sqrt(1.0 + self.strides)))
+                RESUMED_SIGMA_M, STRIDE_SIGMA_M / (2.0 * math.sqrt(self.strides))))
 
     def add(self, dh_m: float, length_m: Optional[float] = None) -> float:
         """Take one stair stride's raw height change (m) and length (m); return the estimate."""
