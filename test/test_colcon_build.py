@@ -133,9 +133,9 @@ def test_package_data_installed(colcon_ws):
 
 
 def test_install_ships_default_config_and_sample_bag(colcon_ws):
-    """The install has config/params.yaml, config/anfis_default.json and a sample bag."""
+    """The install has config/params.yaml, both default models and a sample bag."""
     config = colcon_ws.prefix / 'share' / PACKAGE / 'config'
-    for name in ('params.yaml', 'anfis_default.json'):
+    for name in ('params.yaml', 'forest_default.json', 'anfis_default.json'):
         assert (config / name).is_file(), f'{name} not installed: is config/{name} missing?'
     bags = [p for p in files_under(colcon_ws.site_packages / PACKAGE / 'data')
             if p.endswith('metadata.yaml')]

@@ -68,7 +68,7 @@ CLASSIFIER_NODE = 'classifier_node'
 COMMAND_CENTRE_NODE = 'command_centre'
 NODE_NAMES = (IMU_NODE, CLASSIFIER_NODE, COMMAND_CENTRE_NODE)
 ALARM_PREFIX = 'alarm.'
-DEFAULT_MODEL_FILE = 'anfis_default.json'
+DEFAULT_MODEL_FILE = 'forest_default.json'
 PARAMS_FILE = 'params.yaml'
 ELEVATION_PREFIX = 'elevation.'
 BUILDING_AID_PREFIX = 'building_aid.'
@@ -303,8 +303,8 @@ _PERSISTENCE = (
     ParamSpec('cycle_history', 3600, 'Gait cycles kept for a late or restarted classifier '
               '(transient local), messages; about an hour of walking.', 1, 100000),
 )
-_MODEL_PATH = ParamSpec('model_path', '', "ANFIS model JSON file; '' is the packaged "
-                        'config/anfis_default.json.')
+_MODEL_PATH = ParamSpec('model_path', '', 'Stair-classifier model JSON file (forest or ANFIS, '
+                        "by its format key); '' is the packaged config/forest_default.json.")
 _BUILDING_FILE = ParamSpec('building_file', '', 'Building file of the incident (YAML, format '
                            "anfis_elevation_ros/building: floors, stairs, entrance); '' for "
                            'none.')

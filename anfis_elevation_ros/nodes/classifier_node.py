@@ -20,8 +20,9 @@ stair mode, eq. 13 -> quantised height, eq. 14 -> floor). Invalid cycles (a gap 
 overlong swing) are counted, not classified: the height stays as it was until the next valid
 cycle, which bridges them when the cycles around agree on a stair mode (``core/height.py``).
 Malformed messages are counted and skipped. The model is loaded once at start from
-``model_path`` ('' = the packaged ``config/anfis_default.json``); a missing or corrupt model
-stops the node at start with an error and exit code 1, so it never runs with garbage.
+``model_path`` ('' = the packaged ``config/forest_default.json``; ANFIS or forest by the
+file's format, ``core/classifier.py``); a missing or corrupt model stops the node at start
+with an error and exit code 1, so it never runs with garbage.
 
 Topics
 ------

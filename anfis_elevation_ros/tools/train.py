@@ -51,8 +51,9 @@ sigma_th has seen the test folds once (sigma_th was picked on them); the honest 
 ``cv['nested_threshold']``: each fold scored with the sigma_th an inner cross-validation over the
 other folds picks (:func:`nested_threshold_cv`).
 
-The default model ``config/anfis_default.json`` is made, from the project root, by
-:data:`DEFAULT_COMMAND`. Runs are deterministic: the simulated runs, the fold assignment and the
+The default model ``config/forest_default.json`` is made, from the project root, by
+:data:`DEFAULT_COMMAND`; the ANFIS alternative ``config/anfis_default.json`` by
+:data:`ANFIS_COMMAND`. Runs are deterministic: the simulated runs, the fold assignment and the
 training depend only on the arguments. Navigator outputs are cached per recording (``.npz``,
 no pickle) under ``--cache-dir``, keyed by the recording's content, the navigator parameters and
 the source code of the navigator pipeline, so a changed navigator is never served stale features.
@@ -98,9 +99,12 @@ from ..core.input_gate import GateParams, InputGate
 from ..core.navigator import FootNavigator, NavigatorParams
 
 PROG = 'python -m anfis_elevation_ros train'
-DEFAULT_COMMAND = (f'{PROG} --sim-seeds 1-40 --hugadb ../shared/data/hugadb --seed 0 '
-                   '--out config/anfis_default.json')
-"""The command, run from the project root, that produces ``config/anfis_default.json``."""
+DEFAULT_COMMAND = (f'{PROG} --sim-seeds 1-40 --hugadb ../shared/data/hugadb --backend forest '
+                   '--seed 0 --out config/forest_default.json')
+"""The command, run from the project root, that produces ``config/forest_default.json``."""
+ANFIS_COMMAND = (f'{PROG} --sim-seeds 1-40 --hugadb ../shared/data/hugadb --seed 0 '
+                 '--out config/anfis_default.json')
+"""The command that produces ``config/anfis_default.json``, the ANFIS alternative."""
 
 SIM_IMU_PRESETS = ('ideal', 'tactical', 'consumer')
 SIM_RATE_RANGE_HZ = (100, 400)

@@ -46,7 +46,7 @@ import sys
 import time
 
 from anfis_elevation_ros import sim
-from anfis_elevation_ros.core.anfis import Anfis
+from anfis_elevation_ros.core.classifier import load_classifier
 from anfis_elevation_ros.core.height import ElevationParams, stair_mode
 from anfis_elevation_ros.core.params import load_pipeline_params
 from anfis_elevation_ros.tools import labels as lab
@@ -238,7 +238,7 @@ def main(argv=None) -> int:
     """Measure the figures; return 1 if a goal is missed."""
     parser = argparse.ArgumentParser(description=__doc__.strip().split('\n\n')[0],
                                      formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    parser.add_argument('--model', type=Path, default=ROOT / 'config' / 'anfis_default.json')
+    parser.add_argument('--model', type=Path, default=ROOT / 'config' / 'forest_default.json')
     parser.add_argument('--parts', default='sim,loso,replica')
     parser.add_argument('--held-out-seeds', type=train.parse_int_list,
                         default=train.parse_int_list('1001-1030'))
@@ -250,7 +250,7 @@ def main(argv=None) -> int:
     parser.add_argument('--jobs', type=int, default=1)
     parser.add_argument('--quiet', action='store_true')
     args = parser.parse_args(argv)
-    model = Anfis.load(args.model)
+    model = load_classifier(args.model)
     threshold = float(model.metadata_.get('mode_threshold', 0.5))
     print(f'model {args.model}: sigma_th {threshold:g}; made by: '
           f'{model.metadata_.get("command", "?")}')
