@@ -314,8 +314,8 @@ def test_default_model_records_its_command_and_is_current(default_model):
     assert meta['cv']['by_source']['sim']['accuracy'] >= 0.998
     assert meta['cv']['by_source']['hugadb']['accuracy'] >= 0.92
     assert meta['data']['counts']['hugadb']['recordings'] == 107
-    message = (f'the navigator pipeline or the simulator changed since config/forest_default.json '
-               f'was made: rebuild it from the project root with {train.DEFAULT_COMMAND}')
+    message = ('the navigator pipeline or the simulator changed since config/forest_default.json'
+               f' was made: rebuild it from the project root with {train.DEFAULT_COMMAND}')
     assert meta['pipeline_code_sha256'] == train.pipeline_fingerprint(), message
     assert meta['sim_code_sha256'] == train.pipeline_fingerprint(sim_only=True), message
 
