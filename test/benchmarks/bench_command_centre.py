@@ -27,7 +27,8 @@ as the ROS node does. Prints, after a warm-up:
 - CPU of this process (model + web server + the synthetic feed; no DDS), % of one core;
 - latency from each update (its stamp, taken at the call) to the end of the page render that
   showed it, measured in the browser with ``Date.now()`` (p50, p99, max);
-- the resident memory of this process over the run (flat = no growth after the tracks fill).
+- the resident memory of this process over the run (flat = no growth after the tracks fill),
+  and the page's JavaScript heap (``performance.memory``).
 
 Needs chromium + chromium-driver (apt) and selenium (the ``test`` extra).
 """
@@ -152,7 +153,9 @@ def main():
                 print('stopped early', flush=True)
                 break
             now = time.monotonic()
-            batch = driver.execute_script('return window.commandCentre.latencies.splice(0);')
+            batch, heap = driver.execute_script(
+                'return [window.commandCentre.latencies.splice(0), '
+                'performance.memory ? performance.memory.usedJSHeapSize : null];')
             if now - start < WARM_UP_S:
                 continue
             if cpu0 is None:
@@ -160,10 +163,12 @@ def main():
                 continue
             latencies.add(batch)
             cpu = 100.0 * (time.process_time() - cpu0) / (now - wall0)
+            page_mb = None if heap is None else round(heap / 2 ** 20, 1)
             samples.append({'t_s': round(now - start), 'rss_mb': round(rss_mb(), 1),
-                            'cpu_percent_so_far': round(cpu, 1)})
-            print(f't {now - start:6.0f} s  RSS {samples[-1]["rss_mb"]:7.1f} MB  CPU '
-                  f'{cpu:5.1f} % of one core  updates seen {latencies.size}', flush=True)
+                            'page_js_heap_mb': page_mb, 'cpu_percent_so_far': round(cpu, 1)})
+            print(f't {now - start:6.0f} s  RSS {samples[-1]["rss_mb"]:7.1f} MB  page JS heap '
+                  f'{page_mb} MB  CPU {cpu:5.1f} % of one core  updates seen {latencies.size}',
+                  flush=True)
         renders, batches, render_s = driver.execute_script(
             'const p = window.commandCentre; return [p.renders, p.batches, p.renderSeconds];')
         roster_rows = driver.execute_script(
@@ -184,6 +189,8 @@ def main():
         'latency_s': {'p50': lat.percentile(50), 'p99': lat.percentile(99), 'max': lat.max_s,
                       'updates': lat.size},
         'rss_mb': {'first': rss[0], 'last': rss[-1], 'max': max(rss)},
+        'page_js_heap_mb': {'first': samples[0]['page_js_heap_mb'],
+                            'last': samples[-1]['page_js_heap_mb']},
         'page': {'renders': renders, 'batches': batches,
                  'mean_render_ms': round(1000.0 * render_s / max(renders, 1), 1)},
         'roster_rows': roster_rows,
@@ -193,7 +200,9 @@ def main():
           f'{figures["cpu_percent_of_one_core"]:.1f} % of one core; update -> page latency p50 '
           f'{figures["latency_s"]["p50"]:.3f} s, p99 {figures["latency_s"]["p99"]:.3f} s, max '
           f'{figures["latency_s"]["max"]:.3f} s ({lat.size} updates); RSS {rss[0]:.1f} -> '
-          f'{rss[-1]:.1f} MB (max {max(rss):.1f}); page: {renders} renders of {batches} pushes, '
+          f'{rss[-1]:.1f} MB (max {max(rss):.1f}); page JS heap '
+          f'{samples[0]["page_js_heap_mb"]} -> {samples[-1]["page_js_heap_mb"]} MB; page: '
+          f'{renders} renders of {batches} pushes, '
           f'{figures["page"]["mean_render_ms"]} ms each; roster rows {roster_rows}')
     if args.json:
         args.json.write_text(json.dumps(figures, indent=2) + '\n')
