@@ -146,16 +146,17 @@ def test_a_declared_gyro_range_keeps_clipped_swings_out_of_the_bias():
     # Walk 35 runs: its gyro sits at the +-500 deg/s rail on 377 samples. Measured: 15.4 m
     # (27.7 % of the path) with the range unknown, 7.0 m (12.7 %) with it declared.
     walk = gdin_walk(35)
-    unknown = final_error_m(walk, NavigatorParams())
-    declared = final_error_m(walk, NavigatorParams(gyro_range_rps=GYRO_RANGE_RPS))
+    plain = HeadingAidParams(hde_enabled=False)
+    unknown = final_error_m(walk, NavigatorParams(heading=plain))
+    declared = final_error_m(walk, NavigatorParams(heading=plain, gyro_range_rps=GYRO_RANGE_RPS))
     assert unknown > 10.0
     assert declared < 0.6 * unknown
 
 
 def test_hde_bounds_the_heading_on_a_real_corridor_walk():
     walk = gdin_walk(32)
-    plain = final_error_m(walk, NavigatorParams())
-    aided = final_error_m(walk, NavigatorParams(heading=HeadingAidParams(hde_enabled=True)))
+    plain = final_error_m(walk, NavigatorParams(heading=HeadingAidParams(hde_enabled=False)))
+    aided = final_error_m(walk, NavigatorParams())
     # 80 m of corridors: 2.2 m (2.8 %) plain, 0.2 m with HDE (measured).
     assert plain > 1.5
     assert aided < 0.5

@@ -74,7 +74,7 @@ class HeadingAidParams:
 
     """
 
-    hde_enabled: bool = False
+    hde_enabled: bool = True
     hde_tolerance_deg: float = 4.0
     hde_sigma_deg: float = 2.0
     hde_straight_strides: int = 2

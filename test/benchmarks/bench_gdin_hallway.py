@@ -33,7 +33,8 @@ from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_wal
 import numpy as np
 
 ALIGN_STRIDES = 3
-AIDS = {'plain': HeadingAidParams(), 'zaru': HeadingAidParams(zaru_enabled=True),
+AIDS = {'plain': HeadingAidParams(hde_enabled=False),
+        'zaru': HeadingAidParams(hde_enabled=False, zaru_enabled=True),
         'hde': HeadingAidParams(hde_enabled=True),
         'both': HeadingAidParams(hde_enabled=True, zaru_enabled=True)}
 

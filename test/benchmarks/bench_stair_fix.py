@@ -80,11 +80,9 @@ def run_seed(seed: int, rate_hz: float, model, pipeline, hde: bool = False) -> d
     d_segments = {index for index, stairwell, _, _ in transitions if stairwell == 'D'}
     d_stamps = walk.strides.stamp_ns[np.isin(walk.strides.segment_index, list(d_segments))]
     for name, building in variants.items():
-        settings = pipeline
-        if name.endswith('+hde'):
-            navigator = pipeline.navigator
-            settings = replace(pipeline, navigator=replace(
-                navigator, heading=replace(navigator.heading, hde_enabled=True)))
+        navigator = pipeline.navigator
+        settings = replace(pipeline, navigator=replace(navigator, heading=replace(
+            navigator.heading, hde_enabled=name.endswith('+hde'))))
         result = replay_recording(walk.to_recording(), settings, model, building=building)
         errors = horizontal_errors(result, walk)
         monitor = result.stair_monitor
