@@ -20,9 +20,9 @@ namespace publishing ``elevation``) and feeds their floor, position, stair mode 
 diagnostics to the incident model; the web server (``command_centre/web.py``) serves the page
 from a thread. The node spins in rclpy's EventsExecutor: 50 responders over DDS cost 20 % of
 one core with it against 27 % with the SingleThreadedExecutor
-(test/benchmarks/bench_command_centre_dds.py). At start the command prints the page's URL and the session token that
-acknowledging an alarm, evacuation and roll call need (a new one each start). Stop it with
-Ctrl-C (SIGINT) or SIGTERM.
+(test/benchmarks/bench_command_centre_dds.py). At start the command prints the page's URL
+and the session token that acknowledging an alarm, evacuation and roll call need (a new one
+each start). Stop it with Ctrl-C (SIGINT) or SIGTERM.
 
 The page is served on the loopback unless ``--host`` says otherwise; any other address needs
 ``--tls-cert`` and ``--tls-key`` (HTTPS) or, on a closed network, ``--insecure``. The
