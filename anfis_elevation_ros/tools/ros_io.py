@@ -220,7 +220,7 @@ class CycleListener(Node):
     Attributes
     ----------
     elevations : list of (stamp_ns, x_m, y_m, height_m, receive_time_ns)
-    modes, floors : list of (value, receive_time_ns)
+    modes, floors, floor_certain : list of (value, receive_time_ns)
     cycles : list of (CycleMessage, receive_time_ns), from ``gait_cycle``
     diagnostics : dict
         {status name: (level, message, {key: value})}, the latest of each.
@@ -231,12 +231,13 @@ class CycleListener(Node):
         from diagnostic_msgs.msg import DiagnosticArray
         from geometry_msgs.msg import PointStamped
         from sensor_msgs.msg import PointCloud2
-        from std_msgs.msg import Int32, Int8
+        from std_msgs.msg import Bool, Int32, Int8
 
         from ..nodes.qos import DIAGNOSTICS_QOS
 
         super().__init__('cycle_listener', **node_kwargs)
         self.elevations, self.modes, self.floors, self.cycles = [], [], [], []
+        self.floor_certain = []
         self.diagnostics = {}
         self._on_elevation = on_elevation
         self.create_subscription(DiagnosticArray, '/diagnostics', self._diagnostics,
@@ -245,6 +246,7 @@ class CycleListener(Node):
         self.create_subscription(PointStamped, 'elevation', self._elevation, LATEST_QOS)
         self.create_subscription(Int8, 'stair_mode', self._mode, LATEST_QOS)
         self.create_subscription(Int32, 'floor', self._floor, LATEST_QOS)
+        self.create_subscription(Bool, 'floor_certain', self._floor_certain, LATEST_QOS)
         self.create_subscription(PointCloud2, 'gait_cycle', self._cycle, CYCLE_QOS)
 
     def _elevation(self, msg):
@@ -261,6 +263,9 @@ class CycleListener(Node):
 
     def _floor(self, msg):
         self.floors.append((msg.data, time.time_ns()))
+
+    def _floor_certain(self, msg):
+        self.floor_certain.append((msg.data, time.time_ns()))
 
     def _cycle(self, msg):
         self.cycles.append((cycle_from_msg(msg), time.time_ns()))
