@@ -77,12 +77,13 @@ def test_cycle_message_round_trip_and_layout():
     assert [f.name for f in msg.fields] == list(CYCLE_FIELDS)
     assert [f.offset for f in msg.fields] == [8 * i for i in range(len(CYCLE_FIELDS))]
     # The patent's fields, the index and the walk keep their first offsets; motion features follow.
-    assert CYCLE_FIELDS[:11] == ('x', 'y', 'z', 'valid') + PATENT_FEATURE_NAMES \
-        + ('cycle_index', 'walk_id')
-    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 8 * 22
+    assert CYCLE_FIELDS[:12] == ('x', 'y', 'z', 'valid') + PATENT_FEATURE_NAMES \
+        + ('cycle_index', 'walk_id', 'outage')
+    assert msg.header.frame_id == 'odom' and msg.is_dense and msg.point_step == 8 * 23
     back = cycle_from_msg(msg)
     assert back.stamp_ns == cycle.stamp_ns and back.valid and back.index == 17
-    assert back.walk_id == 2 ** 31 - 1
+    assert back.walk_id == 2 ** 31 - 1 and not back.outage
+    assert cycle_from_msg(cycle_to_msg(cycle, 'odom', 18, 1, outage=True)).outage
     assert (back.x_m, back.y_m, back.z_m) == (1.5, -2.25, 0.34)
     assert np.array_equal(back.features, cycle.features)
 
@@ -124,6 +125,17 @@ def test_cycle_message_with_a_bad_walk_id_is_refused(walk_id):
     msg = cycle_to_msg(cycle, 'odom', 1, 1)
     msg.data = bytes(msg.data)[:80] + struct.pack('<d', walk_id) + bytes(msg.data)[88:]
     with pytest.raises(InputError, match='walk_id'):
+        cycle_from_msg(msg)
+
+
+@pytest.mark.parametrize('outage', [0.5, -1.0, float('nan')])
+def test_cycle_message_with_a_bad_outage_flag_is_refused(outage):
+    """The outage flag is 0 or 1: anything else is malformed."""
+    cycle = GaitCycle(stamp_ns=1, start_stamp_ns=0, pos_n=np.zeros(3),
+                      features=np.zeros(N_FEATURES), valid=True)
+    msg = cycle_to_msg(cycle, 'odom', 1, 1)
+    msg.data = bytes(msg.data)[:88] + struct.pack('<d', outage) + bytes(msg.data)[96:]
+    with pytest.raises(InputError, match='outage'):
         cycle_from_msg(msg)
 
 

@@ -30,7 +30,8 @@ STATE = NavigationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
                         stride_period_s=1.1, walk_id=12345)
 ELEVATION = ElevationState(stamp_ns=1_700_000_000_000_000_000, wall_time_s=1000.0,
                            source_id='/gait_cycle', height_m=3.4, floor=1, cycle_index=42,
-                           walk_id=12345, step_height_m=0.153, riser_strides=17)
+                           walk_id=12345, step_height_m=0.153, riser_strides=17,
+                           last_mode=1, last_abs_dh_m=0.31, floor_doubt='5 cycles unobserved')
 
 
 @pytest.mark.parametrize('state', [STATE, ELEVATION])
@@ -147,4 +148,12 @@ def test_a_version_2_elevation_state_is_refused_with_the_reason(tmp_path):
                                      {'riser_strides': -1}, {'riser_strides': 2.0}])
 def test_a_bad_riser_height_in_a_state_is_refused(changes):
     with pytest.raises(InputError, match='step_height_m|riser_strides'):
+        ElevationState(**{**ELEVATION.__dict__, **changes})
+
+
+@pytest.mark.parametrize('changes', [{'last_mode': 2}, {'last_abs_dh_m': -0.1},
+                                     {'last_abs_dh_m': float('inf')}, {'floor_doubt': 7},
+                                     {'floor_doubt': 'x' * 501}, {'last_mode': True}])
+def test_a_bad_outage_field_of_an_elevation_state_is_refused(changes):
+    with pytest.raises(InputError):
         ElevationState(**{**ELEVATION.__dict__, **changes})

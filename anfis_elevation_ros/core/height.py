@@ -408,6 +408,43 @@ class ElevationTracker:
         self.unbridged_cycles = 0
         self.implausible_cycles = 0
 
+    def resume_flight(self, last_mode: int, last_abs_dh_m: float):
+        """
+        Carry the last valid cycle across a restart: its stair mode and raw |dh| (m).
+
+        The cycles lost in the outage are then bridged as if the node had never stopped
+        (``core/outage.py``): a flight in progress goes on with the stride before.
+        """
+        if last_mode not in (MODE_DOWN, MODE_LEVEL, MODE_UP) or not (
+                math.isfinite(last_abs_dh_m) and 0.0 <= last_abs_dh_m
+                <= MAX_CYCLE_HEIGHT_CHANGE_M):
+            raise ValueError(f'last_mode {last_mode!r} and last_abs_dh_m {last_abs_dh_m!r} do '
+                             'not describe a gait cycle')
+        self._last_mode = self._flight_mode = int(last_mode)
+        self._last_abs_dh_m = float(last_abs_dh_m)
+
+    @property
+    def last_mode(self) -> int:
+        """Return the stair mode of the last valid cycle."""
+        return self._last_mode
+
+    @property
+    def last_abs_dh_m(self) -> float:
+        """Return the raw |dh| of the last stair cycle, m."""
+        return self._last_abs_dh_m
+
+    def correct_height(self, height_m: float):
+        """
+        Set the height (a floor of the building confirmed after a doubt), m.
+
+        h_base <- h_base + (h_new - h): the risers counted and the riser estimate are kept; the
+        floor is the one nearest the new height.
+        """
+        if not math.isfinite(height_m):
+            raise ValueError(f'height_m must be finite, got {height_m!r}')
+        self._base_height_m += float(height_m) - self.height_m
+        self.floors.rebase(self.floors.floor_map, self.height_m)
+
     def _floor_map(self, params: ElevationParams):
         return floor_map_for(self.building, params.start_floor, params.floor_height_m)
 

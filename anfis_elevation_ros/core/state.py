@@ -180,6 +180,14 @@ class ElevationState:
         Riser height K in use (online estimate or the building file's), m, in [0.10, 0.25].
     riser_strides : int
         Stair strides behind that estimate (a resumed estimate is as sure as they made it).
+    last_mode : int
+        Stair mode (-1, 0, +1) of the last valid cycle: bridges an outage across a restart.
+    last_abs_dh_m : float
+        Raw |dh| of the last stair cycle, m, in [0, 10].
+    floor_doubt : str
+        Why the floor is in doubt ('' when it is not; ``core/outage.py``).
+    floor_doubt_reach_m : float
+        How far the true height may be from ``height_m`` while in doubt, m, in [0, 10000].
 
     """
 
@@ -192,6 +200,10 @@ class ElevationState:
     walk_id: int
     step_height_m: float
     riser_strides: int
+    last_mode: int = 0
+    last_abs_dh_m: float = 0.0
+    floor_doubt: str = ''
+    floor_doubt_reach_m: float = 0.0
 
     def __post_init__(self):
         _check_fields(self)
@@ -199,6 +211,12 @@ class ElevationState:
         if not 0.10 <= self.step_height_m <= 0.25 or self.riser_strides < 0:
             raise InputError(f'state step_height_m = {self.step_height_m} (riser_strides '
                              f'{self.riser_strides}) is not a riser height in [0.10, 0.25] m')
+        if self.last_mode not in (-1, 0, 1) or not 0.0 <= self.last_abs_dh_m <= 10.0 \
+                or len(self.floor_doubt) > 500 or not 0.0 <= self.floor_doubt_reach_m <= 1e4:
+            raise InputError(f'state last_mode = {self.last_mode}, last_abs_dh_m = '
+                             f'{self.last_abs_dh_m}, floor_doubt of {len(self.floor_doubt)} '
+                             'characters: not a stair mode, a height change in [0, 10] m and '
+                             'a reason')
 
 
 _KINDS = {cls.__name__: cls for cls in (NavigationState, ElevationState)}

@@ -77,6 +77,7 @@ from its restart (a stricter threshold for the first entry), and a request it re
 refused by the IMU node as a duplicate.
 """
 
+from dataclasses import replace
 import sys
 import time
 
@@ -97,6 +98,9 @@ from .state_writer import PersistsState
 from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
+from ..core.outage import FloorDoubt, LEVEL_STRETCH_CYCLES, MAX_OUTAGE_CYCLES
+from ..core.outage import max_unobserved_climb, outage_leaves_doubt, snapped_floor_height
+from ..core.outage import UNKNOWN_CLIMB_M
 from ..core.params import building_aid_params_from_dict, CLASSIFIER_NODE
 from ..core.params import elevation_params_from_dict, load_model, model_file
 from ..core.stair_database import stair_monitor_for
@@ -142,6 +146,8 @@ class ClassifierNode(PersistsState, Node):
         self._resume_max_gap_s = values['resume_max_gap_s']
         self._candidate = state          # resumed or not at the first gait cycle
         self._walk_id = None             # the walk of the cycles counted
+        self._doubt = FloorDoubt()
+        self._pending_lost = 0           # cycles lost (outage, never received) not yet weighed
         self._resume_refusals = int(state is None and self._state_path.exists())
         self._resume_decision = reason if state is None else \
             'saved state found; the first gait cycle decides'
@@ -216,15 +222,19 @@ class ClassifierNode(PersistsState, Node):
         elif cycle.walk_id != self._walk_id:
             self._walk_id = cycle.walk_id
             self._last_index, self._last_stamp_ns = 0, -1
+            self._doubt.doubt('the IMU node started a new walk', UNKNOWN_CLIMB_M)
             self.get_logger().warning('the IMU node started a new walk (it could not resume its '
                                       f'own): carrying on from height '
-                                      f'{self._tracker.height_m:.2f} m')
+                                      f'{self._tracker.height_m:.2f} m, floor uncertain')
         if cycle.index <= self._last_index and cycle.stamp_ns <= self._last_stamp_ns:
             # History sent to a restarted node. (A resumed IMU node carries its index on, so a
             # sensor clock that restarted does not make new cycles look old.)
             self._already_counted += 1
             return
-        self._note_cycle_index(cycle.index)
+        self._note_cycle_index(cycle)
+        self._pending_lost += cycle.outage
+        mode_before = self._tracker.last_mode
+        risers_before = round(self._tracker.last_abs_dh_m / self._tracker.step_height_m)
         try:
             estimate = self._tracker.update(cycle.stamp_ns, cycle.features, cycle.x_m,
                                             cycle.y_m, cycle.valid)
@@ -244,6 +254,7 @@ class ClassifierNode(PersistsState, Node):
         if estimate.bridged_steps:
             self.get_logger().info(f'{estimate.bridged_steps:+d} steps credited to invalid '
                                    'cycles inside a stair flight')
+        estimate = self._weigh_doubt(mode_before, risers_before, estimate)
         self._classified += 1
         self._last_mode = estimate.mode
         point = PointStamped()
@@ -285,6 +296,31 @@ class ClassifierNode(PersistsState, Node):
                     f'{request.floor}, {"up" if request.direction > 0 else "down"}), {where}; '
                     'correction requested')
 
+    def _weigh_doubt(self, mode_before: int, risers_before: int, estimate):
+        """Doubt the floor after unobserved cycles; clear the doubt at a floor of the building."""
+        if self._pending_lost:
+            lost, self._pending_lost = self._pending_lost, 0
+            if outage_leaves_doubt(lost, mode_before, estimate.mode):
+                self._doubt.doubt(f'{lost} gait cycles unobserved (stair mode {mode_before:+d} '
+                                  f'before, {estimate.mode:+d} after)', max_unobserved_climb(
+                                      lost, risers_before, self._tracker.step_height_m))
+                self.get_logger().warning(f'floor uncertain: {self._doubt.reason}')
+        if self._doubt.certain or estimate.mode != 0 \
+                or self._tracker.floors.level_cycles < LEVEL_STRETCH_CYCLES:
+            return estimate
+        height_m = snapped_floor_height(
+            estimate.height_m, self._tracker.floors.floor_map.elevations_m,
+            self._doubt.reach_m + self._tracker.step_height_m)
+        if height_m is None:
+            return estimate
+        self._tracker.correct_height(height_m)
+        self._doubt.clear()
+        self.get_logger().info(f'floor certain again: a level stretch at height '
+                               f'{estimate.height_m:.2f} m is floor {self._tracker.floor} of the '
+                               f'building ({height_m:.2f} m)')
+        return replace(estimate, height_m=self._tracker.height_m, floor=self._tracker.floor,
+                       floor_certain=self._tracker.floor_certain)
+
     def _decide_resume(self, cycle):
         """Resume the saved state if this first cycle continues its walk, else start fresh."""
         state, self._candidate = self._candidate, None
@@ -308,6 +344,11 @@ class ClassifierNode(PersistsState, Node):
             return
         self._tracker.reset(state.height_m)
         self._tracker.risers.resume(state.step_height_m, state.riser_strides)
+        self._tracker.resume_flight(state.last_mode, state.last_abs_dh_m)
+        # The saved floor, not the one nearest a height saved mid-flight; certain again when
+        # the settle rule sees the foot on it.
+        self._tracker.floors.floor, self._tracker.floors.certain = state.floor, False
+        self._doubt = FloorDoubt(state.floor_doubt, state.floor_doubt_reach_m)
         self._last_stamp_ns, self._last_index = state.stamp_ns, state.cycle_index
         self._resumed = True
         self._floor = self._tracker.floor
@@ -316,13 +357,17 @@ class ClassifierNode(PersistsState, Node):
                                f'height {self._tracker.step_height_m:.3f} m')
         self._publish_floor(self._floor, self._tracker.floor_certain)
 
-    def _note_cycle_index(self, index: int):
+    def _note_cycle_index(self, cycle):
+        index = cycle.index
         if index > self._last_index + 1:
             lost = index - self._last_index - 1
             self._missed += lost
+            self._pending_lost += lost
+            for _ in range(min(lost, MAX_OUTAGE_CYCLES)):
+                self._tracker.update(cycle.stamp_ns, None, cycle.x_m, cycle.y_m, valid=False)
             self.get_logger().warning(
                 f'{lost} gait cycles never received (index {self._last_index} -> {index}): '
-                'their stair steps are not counted')
+                'bridged if the stair mode on both sides agrees')
         elif index <= self._last_index:
             self.get_logger().info(f'the IMU node restarted its cycle count ({self._last_index} '
                                    f'-> {index}); carrying on from height '
@@ -334,7 +379,9 @@ class ClassifierNode(PersistsState, Node):
             source_id=self._source_id, height_m=self._tracker.height_m,
             floor=self._tracker.floor, cycle_index=self._last_index, walk_id=self._walk_id,
             step_height_m=self._tracker.step_height_m,
-            riser_strides=self._tracker.risers.strides))
+            riser_strides=self._tracker.risers.strides, last_mode=self._tracker.last_mode,
+            last_abs_dh_m=self._tracker.last_abs_dh_m, floor_doubt=self._doubt.reason,
+            floor_doubt_reach_m=self._doubt.reach_m))
 
     def _publish_floor_if_changed(self):
         floor = self._tracker.floor
@@ -345,7 +392,8 @@ class ClassifierNode(PersistsState, Node):
 
     def _publish_floor(self, floor: int, certain: bool = True):
         self._floor_pub.publish(Int32(data=int(floor)))
-        self._floor_certain_pub.publish(Bool(data=bool(certain)))
+        # The settle rule's certainty (core/floors.py) and an outage's doubt (core/outage.py).
+        self._floor_certain_pub.publish(Bool(data=bool(certain) and self._doubt.certain))
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""
@@ -356,6 +404,8 @@ class ClassifierNode(PersistsState, Node):
             (tracker.implausible_cycles, 'implausible climbs'),
             (self._state_write_errors(), 'failed state writes'),
             (self._not_in_map_frame, 'cycles not in the map frame (no stair fixes)')) if n]
+        if not self._doubt.certain:
+            problems.append(f'floor uncertain: {self._doubt.reason}')
         if self._internal_errors:
             level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
         elif problems:
@@ -368,7 +418,8 @@ class ClassifierNode(PersistsState, Node):
                   'implausible_cycles': tracker.implausible_cycles, 'missed_cycles': self._missed,
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
-                  'floor_certain': tracker.floor_certain,
+                  'floor_certain': tracker.floor_certain and self._doubt.certain,
+                  'floor_doubt': self._doubt.reason, 'floor_doubts': self._doubt.doubts,
                   'step_height_m': tracker.step_height_m,
                   'riser_strides': tracker.risers.strides,
                   'stairwells': tracker.risers.stairwells,

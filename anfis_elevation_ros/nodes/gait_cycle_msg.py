@@ -35,12 +35,14 @@ the cycle, in the odometry frame; its fields, all FLOAT64 (``CYCLE_FIELDS``):
   72   ``cycle_index``       index of the cycle, 1, 2, ... (continues after a resumed restart)
   80   ``walk_id``           identity of the walk, 1 .. 2^31 - 1 (kept by a resumed restart,
                             new when the IMU node starts fresh: ``core/state.py``)
-  88   ``acc_x_min_mps2``    then the eleven motion features of ``core/motion_features.py``,
- ...   ...                   in ``MOTION_FEATURE_NAMES`` order, up to offset 168
+  88   ``outage``            1.0 for a cycle lost while the IMU node was down (then invalid,
+                            its stamp interpolated: ``core/outage.py``), else 0.0
+  96   ``acc_x_min_mps2``    then the eleven motion features of ``core/motion_features.py``,
+ ...   ...                   in ``MOTION_FEATURE_NAMES`` order, up to offset 176
 =====  ====================  ==============================================================
 
 ``header.stamp`` is the stamp of the IMU sample that closed the cycle; ``header.frame_id`` the
-odometry frame; height = width = 1, point_step = row_step = 176, little endian, ``is_dense``
+odometry frame; height = width = 1, point_step = row_step = 184, little endian, ``is_dense``
 false when a value is not finite.
 """
 
@@ -56,11 +58,12 @@ from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES, PATENT_FEATURE_NAMES
 from ..core.state import MAX_WALK_ID
 
-# The motion features come after walk_id, so the first fields keep their offsets.
-CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + PATENT_FEATURE_NAMES + ('cycle_index', 'walk_id') \
+# The motion features come after walk_id and outage, so the first fields keep their offsets.
+CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + PATENT_FEATURE_NAMES + ('cycle_index', 'walk_id',
+                                                                  'outage') \
     + FEATURE_NAMES[len(PATENT_FEATURE_NAMES):]
 _INDEX_FIELD = CYCLE_FIELDS.index('cycle_index')
-_MOTION_FIELD = CYCLE_FIELDS.index('walk_id') + 1
+_MOTION_FIELD = CYCLE_FIELDS.index('outage') + 1
 _CYCLE_STRUCT = struct.Struct('<' + 'd' * len(CYCLE_FIELDS))
 
 
@@ -83,6 +86,8 @@ class CycleMessage:
         Index of the cycle (1, 2, ...).
     walk_id : int
         Identity of the walk the cycle belongs to (``core/state.py``, ``new_walk_id``).
+    outage : bool
+        True for a cycle lost while the IMU node was down (then invalid).
 
     """
 
@@ -94,12 +99,14 @@ class CycleMessage:
     features: np.ndarray
     index: int
     walk_id: int
+    outage: bool = False
 
 
 _CYCLE_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(CYCLE_FIELDS))
 
 
-def cycle_to_msg(cycle, frame_id: str, index: int, walk_id: int) -> PointCloud2:
+def cycle_to_msg(cycle, frame_id: str, index: int, walk_id: int,
+                 outage: bool = False) -> PointCloud2:
     """
     PointCloud2 of one GaitCycle with its index and walk (layout in the module docstring).
 
@@ -109,7 +116,8 @@ def cycle_to_msg(cycle, frame_id: str, index: int, walk_id: int) -> PointCloud2:
     features = [float(v) for v in cycle.features]
     finite = all(math.isfinite(v) for v in position + features)
     values = (*position, 1.0 if cycle.valid and finite else 0.0, *features[:_INDEX_FIELD - 4],
-              float(index), float(walk_id), *features[_INDEX_FIELD - 4:])
+              float(index), float(walk_id), 1.0 if outage else 0.0,
+              *features[_INDEX_FIELD - 4:])
     msg = PointCloud2()
     msg.header.stamp = ns_to_stamp(cycle.stamp_ns)
     msg.header.frame_id = frame_id
@@ -142,13 +150,15 @@ def cycle_from_msg(msg) -> CycleMessage:
                          f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
                          f'{len(msg.data)} bytes')
     values = _CYCLE_STRUCT.unpack(bytes(msg.data))
-    index, walk_id = values[_INDEX_FIELD:_MOTION_FIELD]
+    index, walk_id, outage = values[_INDEX_FIELD:_MOTION_FIELD]
     if not (math.isfinite(index) and index == int(index) and 1 <= index < 2 ** 53):
         raise InputError(f'gait_cycle message has cycle_index {index!r}, not a count')
     if not (math.isfinite(walk_id) and walk_id == int(walk_id) and 1 <= walk_id <= MAX_WALK_ID):
         raise InputError(f'gait_cycle message has walk_id {walk_id!r}, not a walk identity')
+    if outage not in (0.0, 1.0):
+        raise InputError(f'gait_cycle message has outage {outage!r}, not 0 or 1')
     return CycleMessage(stamp_ns=stamp_to_ns(msg.header.stamp), x_m=values[0], y_m=values[1],
                         z_m=values[2], valid=values[3] == 1.0,
                         features=np.array(values[4:_INDEX_FIELD] + values[_MOTION_FIELD:],
                                           dtype=float), index=int(index),
-                        walk_id=int(walk_id))
+                        walk_id=int(walk_id), outage=outage == 1.0)

@@ -76,9 +76,9 @@ heading at its first stance, cycle indices and the walk identity carry on); othe
 starts fresh, with a new walk identity. The log and the diagnostics (``resume``: the decision
 and why; ``resume_refusals``: saved states not resumed) say which. The motion while the node
 was down is unknown: at its first stance the resumed node publishes one invalid cycle per
-stride period (recent median) that passed since the saved cycle, at most
-``MAX_OUTAGE_CYCLES``, so that a restart in the middle of a stair flight is bridged like any
-gap (``core/height.py``).
+stride period (recent median) that passed since the saved cycle (``core/outage.py``,
+``outage_cycle_count``), flagged ``outage``: the classifier bridges them when the stair mode on
+both sides agrees and otherwise says the floor is uncertain.
 The state also says whether the position is in the building's map frame (a state is resumed
 only into the same kind of frame) and which stair-entry corrections it already contains: those
 are never applied again, and a request the restarted node gets again from the topic's history
@@ -114,6 +114,7 @@ from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATU
 from ..core.input_gate import WRONG_UNITS
 from ..core.map_frame import map_alignment_for
 from ..core.navigator import compile_navigator, FootNavigator
+from ..core.outage import outage_cycle_count
 from ..core.params import building_aid_params_from_dict, gate_params_from_dict, IMU_NODE
 from ..core.params import navigator_params_from_dict
 from ..core.position_fix import PositionFixQueue
@@ -122,7 +123,6 @@ from ..core.state import walk_continues
 
 REJECT_LOG_PERIOD_S = 5.0
 LOSS_WARN_FRACTION = 0.01   # more lost samples than this (per diagnostics period) is a warning
-MAX_OUTAGE_CYCLES = 3       # a longer outage may hide a stop: its climb is not guessed
 STRIDE_PERIODS = 5          # recent cycle periods whose median is the stride period
 MIN_STRIDE_PERIOD_S = 0.1   # periods outside these limits are not strides: the clock went
 MAX_STRIDE_PERIOD_S = 3.0   # back, or the firefighter stopped
@@ -331,10 +331,10 @@ class ImuNode(PersistsState, Node):
             if self._persist:
                 self._save_state(cycle)
 
-    def _publish_cycle(self, cycle):
+    def _publish_cycle(self, cycle, outage: bool = False):
         self._cycle_index += 1
         self._cycle_pub.publish(cycle_to_msg(cycle, self._track_frame_id, self._cycle_index,
-                                             self._walk_id))
+                                             self._walk_id, outage))
         if self._last_cycle_stamp_ns is not None:
             period_s = (cycle.stamp_ns - self._last_cycle_stamp_ns) * 1e-9
             if MIN_STRIDE_PERIOD_S <= period_s <= MAX_STRIDE_PERIOD_S:
@@ -348,16 +348,11 @@ class ImuNode(PersistsState, Node):
         """Publish the cycles lost while the node was down as invalid ones (see above)."""
         state, self._resumed_from = self._resumed_from, None
         outage_s = (point.stamp_ns - state.stamp_ns) * 1e-9     # > 0: walk_continues
-        lost = round(outage_s / state.stride_period_s)
-        if lost > MAX_OUTAGE_CYCLES:
-            self.get_logger().warning(
-                f'{outage_s:.1f} s since the saved cycle: the climb during the outage is '
-                'unknown and not counted; the height may be off')
-            return
+        lost = outage_cycle_count(outage_s, state.stride_period_s)
         for k in range(1, lost + 1):
             stamp_ns = state.stamp_ns + (point.stamp_ns - state.stamp_ns) * k // (lost + 1)
             self._publish_cycle(GaitCycle(stamp_ns, stamp_ns, point.pos_n,
-                                          np.zeros(N_FEATURES), valid=False))
+                                          np.zeros(N_FEATURES), valid=False), outage=True)
         self._outage_cycles += lost
         self.get_logger().info(f'{outage_s:.1f} s since the saved cycle: {lost} cycles lost '
                                'in the outage, published as invalid')

@@ -54,7 +54,7 @@ COMPILE = ('import time; from anfis_elevation_ros.core.navigator import compile_
 
 
 def env() -> dict:
-    """This checkout first on PYTHONPATH."""
+    """Return the environment with this checkout first on PYTHONPATH."""
     result = dict(os.environ)
     result['PYTHONPATH'] = os.pathsep.join([str(ROOT)] + [
         p for p in result.get('PYTHONPATH', '').split(os.pathsep) if p])
