@@ -555,12 +555,12 @@ class ElevationTracker:
         dh_m = float(features[HEIGHT_CHANGE])
         length_m = None if self._last_xy is None or self._lost else math.hypot(
             x_m - self._last_xy[0], y_m - self._last_xy[1])
-        self._last_xy = (x_m, y_m)
+        start_xy, self._last_xy = self._last_xy, (x_m, y_m)
         bridged = self._bridge(mode)
         if mode != self._flight_mode:
             self._end_flight(mode)
             if mode != MODE_LEVEL:
-                self.risers.start_flight()
+                self.risers.start_flight(start_xy)
         if mode == MODE_LEVEL:
             self.slope.add_level(dh_m, length_m)
         else:
@@ -568,7 +568,7 @@ class ElevationTracker:
                 riser_count_bounds(None)    # K known: eq. 14 as the patent has it
             if bounds[1] <= MAX_RISERS:     # a length that fits stairs: correct the slope
                 dh_m = self.slope.corrected(dh_m, length_m)
-            self.risers.add(dh_m, length_m)
+            self.risers.add(dh_m, length_m, (x_m, y_m))
             self._flight_abs_dh_m.append(abs(dh_m))
             self._flight_cycles.append(1)
             self._flight_bounds.append(bounds)

@@ -81,6 +81,9 @@ SLOPE_STRIDES = 64
 SLOPE_MIN_LENGTH_M = 0.5
 """Shorter level strides (turns, shuffles) say little about the slope, m."""
 
+SAME_STAIRS_M = 3.0
+"""A flight starting this close (m) to where a stairwell's last flight ended is in it."""
+
 RESUMED_SIGMA_M = 0.001
 """Narrowest prior of a resumed estimate, m (the grid step)."""
 
@@ -315,8 +318,12 @@ class StairwellRiserHeights:
     database here, and the INS position drifts), so each flight goes to the stairwell whose
     riser height best explains its strides so far, or to a new one, by Bayesian evidence
     (:func:`stairwell_evidence`): a stairwell of another K, or a flight of one stair too many,
-    is told apart after a stride or two. Each stairwell keeps the net risers N_w of its finished
-    flights, so that the height they add is K_w N_w with the latest K_w.
+    is told apart after a stride or two. A flight that starts within :data:`SAME_STAIRS_M` of
+    where a stairwell's last flight ended (a landing, a turn back down the same stairs) is in
+    that stairwell whatever its strides say: over a few metres the track does not drift, and
+    strides up and down the same stairs can differ by 10 % (an IMU's cross-axis errors). Each
+    stairwell keeps the net risers N_w of its finished flights, so that the height they add is
+    K_w N_w with the latest K_w.
 
     Parameters
     ----------
@@ -328,19 +335,23 @@ class StairwellRiserHeights:
     def __init__(self, prior_m: float, known_m: Optional[float] = None,
                  prior_sigma_m: float = PRIOR_SIGMA_M):
         self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
-        self._wells = []            # [estimator, net risers of its finished flights]
+        # [estimator, net risers of its finished flights, (x, y) where its last flight ended]
+        self._wells = []
         self._flight_log_likelihood = None
         self._flight_strides = 0
+        self._flight_start_xy = self._flight_end_xy = None
         self._index = None          # stairwell of the open (or last) flight; None: a new one
 
-    def start_flight(self):
-        """Open a flight: its strides are the flight's until :meth:`end_flight`."""
+    def start_flight(self, start_xy: Optional[tuple] = None):
+        """Open a flight starting at (x, y), m: its strides are the flight's until it ends."""
         self._flight_log_likelihood = np.zeros(len(K_GRID_M))
         self._flight_strides = 0
+        self._flight_start_xy = self._flight_end_xy = start_xy
         self._index = None
 
-    def add(self, dh_m: float, length_m: Optional[float] = None) -> float:
-        """Add a stride of the open flight, choose its stairwell; return the estimate, m."""
+    def add(self, dh_m: float, length_m: Optional[float] = None,
+            end_xy: Optional[tuple] = None) -> float:
+        """Add a stride (ending at (x, y), m) to the open flight; return the estimate, m."""
         if not math.isfinite(dh_m):
             raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
         if self._flight_log_likelihood is None:
@@ -348,10 +359,13 @@ class StairwellRiserHeights:
         self._flight_log_likelihood += stride_log_likelihood(dh_m, K_GRID_M,
                                                              allowed_riser_counts(length_m))
         self._flight_strides += 1
-        if self._template.estimating:
-            evidence = [stairwell_evidence(estimator.log_posterior(),
-                                           self._flight_log_likelihood)
-                        for estimator, _ in self._wells]
+        self._flight_end_xy = end_xy
+        same_stairs = self._stairwell_ending_near(self._flight_start_xy)
+        if same_stairs is not None:
+            self._index = same_stairs
+        elif self._template.estimating:
+            evidence = [stairwell_evidence(well[0].log_posterior(), self._flight_log_likelihood)
+                        for well in self._wells]
             new = stairwell_evidence(self._template.log_posterior(),
                                      self._flight_log_likelihood)
             best = int(np.argmax(evidence)) if evidence else None
@@ -368,12 +382,23 @@ class StairwellRiserHeights:
         if self._index is None:
             first = self._template
             self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
-                                                     first.prior_sigma_m), 0])
+                                                     first.prior_sigma_m), 0, None])
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well[0].commit(self._flight_log_likelihood, self._flight_strides)
         well[1] += int(risers)
+        well[2] = self._flight_end_xy
         self._flight_log_likelihood = None
+
+    def _stairwell_ending_near(self, xy: Optional[tuple]) -> Optional[int]:
+        """Return the stairwell whose last flight ended within SAME_STAIRS_M of (x, y)."""
+        if xy is None:
+            return None
+        for k, (_, _, end_xy) in enumerate(self._wells):
+            if end_xy is not None and math.hypot(xy[0] - end_xy[0],
+                                                 xy[1] - end_xy[1]) <= SAME_STAIRS_M:
+                return k
+        return None
 
     def _open_flight(self):
         return self._flight_log_likelihood if self._flight_strides else None
@@ -388,7 +413,7 @@ class StairwellRiserHeights:
     def climbed_m(self) -> float:
         """Return the height of the finished flights, sum_w K_w N_w, m."""
         total = 0.0
-        for k, (estimator, risers) in enumerate(self._wells):
+        for k, (estimator, risers, _) in enumerate(self._wells):
             more = self._open_flight() if k == self._index else None
             total += estimator.estimate_with(more) * risers
         return total
@@ -403,7 +428,7 @@ class StairwellRiserHeights:
         estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
                                          self._template.prior_sigma_m)
         estimator.resume(estimate_m, strides)
-        self._wells = [[estimator, 0]]
+        self._wells = [[estimator, 0, None]]
         self._index = 0
 
     def set_prior(self, prior_m: float, sigma_m: float):
