@@ -213,6 +213,9 @@ class OutputRecorder(Node):
             bag.__exit__(None, None, None)
 
 
+LISTENER_DEPTH = 1000   # outputs a CycleListener queues per topic while busy
+
+
 class CycleListener(Node):
     """
     Collects the classifier's outputs: elevation points, modes, floors, as they arrive.
@@ -242,11 +245,15 @@ class CycleListener(Node):
         self._on_elevation = on_elevation
         self.create_subscription(DiagnosticArray, '/diagnostics', self._diagnostics,
                                  DIAGNOSTICS_QOS)
-        # Relative: a listener made with namespace='/ff1' hears the responder run there.
-        self.create_subscription(PointStamped, 'elevation', self._elevation, LATEST_QOS)
-        self.create_subscription(Int8, 'stair_mode', self._mode, LATEST_QOS)
-        self.create_subscription(Int32, 'floor', self._floor, LATEST_QOS)
-        self.create_subscription(Bool, 'floor_certain', self._floor_certain, LATEST_QOS)
+        # Relative: a listener made with namespace='/ff1' hears the responder run there. A
+        # deep reader queue (compatible with the depth-1 publishers) keeps a burst of outputs
+        # (a late classifier going through the cycle history) when this listener is slow.
+        latest = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=LISTENER_DEPTH,
+                            reliability=LATEST_QOS.reliability, durability=LATEST_QOS.durability)
+        self.create_subscription(PointStamped, 'elevation', self._elevation, latest)
+        self.create_subscription(Int8, 'stair_mode', self._mode, latest)
+        self.create_subscription(Int32, 'floor', self._floor, latest)
+        self.create_subscription(Bool, 'floor_certain', self._floor_certain, latest)
         self.create_subscription(PointCloud2, 'gait_cycle', self._cycle, CYCLE_QOS)
 
     def _elevation(self, msg):
