@@ -150,16 +150,16 @@ def test_a_resumed_estimate_is_a_narrow_prior():
 def test_a_flight_back_down_the_same_stairs_joins_them_whatever_its_strides_say():
     """Up strides read 0.174 m, down strides 0.153 m (cross-axis errors): one stairwell."""
     wells = StairwellRiserHeights(0.17)
-    wells.start_flight((0.0, 0.0))
+    wells.start_flight((0.0, 0.0), 1)
     for i in range(7):
         wells.add(0.348, 0.56, (0.56 * (i + 1), 0.0))
     wells.end_flight(14)
-    wells.start_flight((4.0, 0.5))                   # turned round at the top
+    wells.start_flight((4.0, 0.5), -1)               # turned round at the top
     for i in range(7):
         wells.add(-0.306, 0.56, (4.0 - 0.56 * (i + 1), 0.5))
     wells.end_flight(-14)
     assert wells.stairwells == 1 and wells.climbed_m == 0.0
-    wells.start_flight((30.0, 0.0))                  # far away, same strides: evidence decides
+    wells.start_flight((30.0, 0.0), -1)              # far away, same strides: evidence decides
     wells.add(-0.306, 0.56, (30.5, 0.0))
     wells.end_flight(-2)
     assert wells.stairwells == 2

@@ -560,7 +560,7 @@ class ElevationTracker:
         if mode != self._flight_mode:
             self._end_flight(mode)
             if mode != MODE_LEVEL:
-                self.risers.start_flight(start_xy)
+                self.risers.start_flight(start_xy, mode)
         if mode == MODE_LEVEL:
             self.slope.add_level(dh_m, length_m)
         else:

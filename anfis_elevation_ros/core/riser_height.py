@@ -318,10 +318,11 @@ class StairwellRiserHeights:
     database here, and the INS position drifts), so each flight goes to the stairwell whose
     riser height best explains its strides so far, or to a new one, by Bayesian evidence
     (:func:`stairwell_evidence`): a stairwell of another K, or a flight of one stair too many,
-    is told apart after a stride or two. A flight that starts within :data:`SAME_STAIRS_M` of
-    where a stairwell's last flight ended (a landing, a turn back down the same stairs) is in
-    that stairwell whatever its strides say: over a few metres the track does not drift, and
-    strides up and down the same stairs can differ by 10 % (an IMU's cross-axis errors). Each
+    is told apart after a stride or two. A flight back the other way that starts within
+    :data:`SAME_STAIRS_M` of where a stairwell's last flight ended (a turn back down the same
+    stairs) is in that stairwell whatever its strides say: over a few metres the track does not
+    drift, and strides up and down the same stairs can differ by 10 % (an IMU's cross-axis
+    errors). Each
     stairwell keeps the net risers N_w of its finished flights, so that the height they add is
     K_w N_w with the latest K_w.
 
@@ -335,18 +336,21 @@ class StairwellRiserHeights:
     def __init__(self, prior_m: float, known_m: Optional[float] = None,
                  prior_sigma_m: float = PRIOR_SIGMA_M):
         self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
-        # [estimator, net risers of its finished flights, (x, y) where its last flight ended]
+        # [estimator, net risers of its finished flights, (x, y) where its last flight ended,
+        #  that flight's direction]
         self._wells = []
         self._flight_log_likelihood = None
         self._flight_strides = 0
         self._flight_start_xy = self._flight_end_xy = None
+        self._flight_direction = 0
         self._index = None          # stairwell of the open (or last) flight; None: a new one
 
-    def start_flight(self, start_xy: Optional[tuple] = None):
-        """Open a flight starting at (x, y), m: its strides are the flight's until it ends."""
+    def start_flight(self, start_xy: Optional[tuple] = None, direction: int = 0):
+        """Open a flight (+1 up, -1 down) at (x, y), m: its strides are its own until it ends."""
         self._flight_log_likelihood = np.zeros(len(K_GRID_M))
         self._flight_strides = 0
         self._flight_start_xy = self._flight_end_xy = start_xy
+        self._flight_direction = int(direction)
         self._index = None
 
     def add(self, dh_m: float, length_m: Optional[float] = None,
@@ -382,21 +386,22 @@ class StairwellRiserHeights:
         if self._index is None:
             first = self._template
             self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
-                                                     first.prior_sigma_m), 0, None])
+                                                     first.prior_sigma_m), 0, None, 0])
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well[0].commit(self._flight_log_likelihood, self._flight_strides)
         well[1] += int(risers)
         well[2] = self._flight_end_xy
+        well[3] = self._flight_direction
         self._flight_log_likelihood = None
 
     def _stairwell_ending_near(self, xy: Optional[tuple]) -> Optional[int]:
-        """Return the stairwell whose last flight ended within SAME_STAIRS_M of (x, y)."""
-        if xy is None:
+        """Return the stairwell whose last flight, the other way, ended near (x, y)."""
+        if xy is None or not self._flight_direction:
             return None
-        for k, (_, _, end_xy) in enumerate(self._wells):
-            if end_xy is not None and math.hypot(xy[0] - end_xy[0],
-                                                 xy[1] - end_xy[1]) <= SAME_STAIRS_M:
+        for k, (_, _, end_xy, direction) in enumerate(self._wells):
+            if end_xy is not None and direction == -self._flight_direction and math.hypot(
+                    xy[0] - end_xy[0], xy[1] - end_xy[1]) <= SAME_STAIRS_M:
                 return k
         return None
 
@@ -413,7 +418,7 @@ class StairwellRiserHeights:
     def climbed_m(self) -> float:
         """Return the height of the finished flights, sum_w K_w N_w, m."""
         total = 0.0
-        for k, (estimator, risers, _) in enumerate(self._wells):
+        for k, (estimator, risers, _, _) in enumerate(self._wells):
             more = self._open_flight() if k == self._index else None
             total += estimator.estimate_with(more) * risers
         return total
@@ -428,7 +433,7 @@ class StairwellRiserHeights:
         estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
                                          self._template.prior_sigma_m)
         estimator.resume(estimate_m, strides)
-        self._wells = [[estimator, 0, None]]
+        self._wells = [[estimator, 0, None, 0]]
         self._index = 0
 
     def set_prior(self, prior_m: float, sigma_m: float):
