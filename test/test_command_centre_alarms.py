@@ -191,6 +191,28 @@ def test_floor_unknown_after_floor_unknown_s():
     assert alarms_of(incident)['floor_unknown']['cause_active'] is False
 
 
+def test_floor_unknown_counts_from_the_last_stair_cycle():
+    # A climb of several storeys keeps the floor uncertain for minutes: not an alarm.
+    incident, clock = make_incident()
+    incident.update_floor(FF1, 0)
+    incident.update_floor_certain(FF1, False)
+    for t in range(1, 120):
+        clock.t = float(t)
+        incident.update_mode(FF1, 1)
+        incident.update_pose(FF1, t * 10**9, t * 0.5, 0.0, t * 0.1, 0.0, 0.3)
+        incident.tick()
+        assert 'floor_unknown' not in alarms_of(incident), t
+    clock.t = 120.0
+    incident.update_mode(FF1, 0)            # the last stair cycle was at 119 s
+    clock.t = 148.5
+    incident.update_pose(FF1, 148 * 10**9, 80.0, 0.0, 12.0, 0.0, 0.3)
+    incident.tick()
+    assert 'floor_unknown' not in alarms_of(incident)
+    clock.t = 149.0
+    incident.tick()
+    assert alarms_of(incident)['floor_unknown']['severity'] == 'alarm'
+
+
 def test_every_log_entry_has_its_time():
     incident, clock = make_incident()
     stand_still_until(incident, clock, 31.0)

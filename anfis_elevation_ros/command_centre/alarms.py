@@ -25,7 +25,8 @@ Four causes, evaluated per responder from the times the incident model keeps:
 - ``lost_contact``: no message at all from the responder for ``lost_contact_s``.
 - ``diagnostics_error``: one of the responder's diagnostics statuses is at ERROR.
 - ``floor_unknown``: the floor has been uncertain (``floor_certain`` False) for
-  ``floor_unknown_s``.
+  ``floor_unknown_s`` since the last stair cycle (the classifier calls every floor uncertain
+  while on the stairs, about 25 s a storey: a climb of several storeys is not an alarm).
 
 An alarm clears only when it has been acknowledged and its cause is gone; acknowledging while
 the cause persists keeps it on the board (acknowledged). One exception, as on a PASS device:
@@ -70,8 +71,8 @@ class AlarmParams:
         half a stride).
     lost_contact_s : s without any message from a responder before lost contact (foot_odom
         comes at 10 Hz, diagnostics at 1 Hz: 10 s is many missed messages, not one radio fade).
-    floor_unknown_s : s with the floor uncertain before the floor-unknown alarm (a flight of
-        stairs takes about 10 s).
+    floor_unknown_s : s with the floor uncertain after the last stair cycle before the
+        floor-unknown alarm (settling on a floor takes one to three level cycles).
 
     """
 

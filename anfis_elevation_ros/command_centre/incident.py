@@ -140,7 +140,12 @@ class Incident:
             if r is None:
                 return
             r.mode = int(mode)
-            self._updated(r, self._clock())
+            now = self._clock()
+            if r.mode != 0 and r.uncertain_since is not None:
+                # On the stairs the floor is known to be changing: the floor-unknown timer
+                # counts from the last stair cycle, so a long climb raises no alarm.
+                r.uncertain_since = now
+            self._updated(r, now)
 
     def update_pose(self, responder: str, stamp_ns: int, x_m, y_m, z_m, heading_deg: float,
                     sigma_xy_m) -> None:
