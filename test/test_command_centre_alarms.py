@@ -213,6 +213,20 @@ def test_floor_unknown_counts_from_the_last_stair_cycle():
     assert alarms_of(incident)['floor_unknown']['severity'] == 'alarm'
 
 
+def test_diagnostics_alone_do_not_keep_contact():
+    # The IMU went silent (or the bag ended): the nodes still report every second.
+    incident, clock = make_incident()
+    incident.update_pose(FF1, 0, 1.0, 2.0, 0.0, 90.0, 0.5)
+    while clock.t < 9.0:
+        clock.t = round(clock.t + 1.0, 6)
+        incident.update_diagnostics(FF1, 3, '/ff1/imu_node: IMU input', 'no IMU messages')
+        incident.tick()
+        assert 'lost_contact' not in alarms_of(incident), clock.t
+    clock.t = 10.0
+    incident.update_diagnostics(FF1, 3, '/ff1/imu_node: IMU input', 'no IMU messages')
+    assert alarms_of(incident)['lost_contact']['severity'] == 'alarm'
+
+
 def test_every_log_entry_has_its_time():
     incident, clock = make_incident()
     stand_still_until(incident, clock, 31.0)

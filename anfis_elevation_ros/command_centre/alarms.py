@@ -22,7 +22,9 @@ Four causes, evaluated per responder from the times the incident model keeps:
   Motion is a gait cycle (a new ``elevation`` message) or a move of the foot of more than
   ``motion_threshold_m`` from where it last moved. While contact is lost this cause is not
   evaluated: ``lost_contact`` says what is known.
-- ``lost_contact``: no message at all from the responder for ``lost_contact_s``.
+- ``lost_contact``: no tracking message (elevation, floor, floor_certain, stair mode, pose)
+  from the responder for ``lost_contact_s``; diagnostics alone do not count (a body computer
+  whose IMU is silent keeps reporting them).
 - ``diagnostics_error``: one of the responder's diagnostics statuses is at ERROR.
 - ``floor_unknown``: the floor has been uncertain (``floor_certain`` False) for
   ``floor_unknown_s`` since the last stair cycle (the classifier calls every floor uncertain
@@ -69,8 +71,8 @@ class AlarmParams:
     motion_threshold_m : a move of the foot larger than this from where it last moved is motion,
         m (0.3 m: above the few centimetres a still foot's ZUPT-aided track wanders, below
         half a stride).
-    lost_contact_s : s without any message from a responder before lost contact (foot_odom
-        comes at 10 Hz, diagnostics at 1 Hz: 10 s is many missed messages, not one radio fade).
+    lost_contact_s : s without a tracking message from a responder before lost contact
+        (foot_odom comes at 10 Hz: 10 s is many missed messages, not one radio fade).
     floor_unknown_s : s with the floor uncertain after the last stair cycle before the
         floor-unknown alarm (settling on a floor takes one to three level cycles).
 

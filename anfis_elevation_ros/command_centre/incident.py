@@ -185,7 +185,11 @@ class Incident:
             if name not in r.diagnostics and len(r.diagnostics) >= MAX_DIAGNOSTICS:
                 return self._reject('diagnostics: too many status names')
             r.diagnostics[name[:MAX_TEXT]] = (int(level), message[:MAX_TEXT])
-            self._updated(r, self._clock())
+            # Diagnostics are not tracking: a body computer whose IMU has gone silent still
+            # reports them every second, and its responder is lost all the same.
+            now = self._clock()
+            self._bump(r)
+            self._evaluate(r, now)
 
     def tick(self) -> None:
         """Evaluate the timers (no motion, lost contact, floor unknown) of every responder."""
