@@ -227,6 +227,16 @@ def test_diagnostics_alone_do_not_keep_contact():
     assert alarms_of(incident)['lost_contact']['severity'] == 'alarm'
 
 
+def test_diagnostics_keep_contact_before_tracking_begins():
+    # A body computer starting up: its nodes report before the first pose comes.
+    incident, clock = make_incident()
+    for t in range(1, 16):
+        clock.t = float(t)
+        incident.update_diagnostics(FF1, 0, '/ff1/imu_node: IMU input', 'waiting')
+        incident.tick()
+        assert 'lost_contact' not in alarms_of(incident), t
+
+
 def test_every_log_entry_has_its_time():
     incident, clock = make_incident()
     stand_still_until(incident, clock, 31.0)

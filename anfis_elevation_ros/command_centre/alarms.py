@@ -23,8 +23,8 @@ Four causes, evaluated per responder from the times the incident model keeps:
   ``motion_threshold_m`` from where it last moved. While contact is lost this cause is not
   evaluated: ``lost_contact`` says what is known.
 - ``lost_contact``: no tracking message (elevation, floor, floor_certain, stair mode, pose)
-  from the responder for ``lost_contact_s``; diagnostics alone do not count (a body computer
-  whose IMU is silent keeps reporting them).
+  from the responder for ``lost_contact_s``; once tracking has begun (a pose or a gait cycle),
+  diagnostics alone do not count (a body computer whose IMU is silent keeps reporting them).
 - ``diagnostics_error``: one of the responder's diagnostics statuses is at ERROR.
 - ``floor_unknown``: the floor has been uncertain (``floor_certain`` False) for
   ``floor_unknown_s`` since the last stair cycle (the classifier calls every floor uncertain

@@ -185,11 +185,15 @@ class Incident:
             if name not in r.diagnostics and len(r.diagnostics) >= MAX_DIAGNOSTICS:
                 return self._reject('diagnostics: too many status names')
             r.diagnostics[name[:MAX_TEXT]] = (int(level), message[:MAX_TEXT])
-            # Diagnostics are not tracking: a body computer whose IMU has gone silent still
-            # reports them every second, and its responder is lost all the same.
+            # Once tracking has begun (a pose or a gait cycle), diagnostics are not contact: a
+            # body computer whose IMU went silent still reports them every second, and its
+            # responder is lost all the same. Before, they are the only sign of a starting node.
             now = self._clock()
-            self._bump(r)
-            self._evaluate(r, now)
+            if r.stamp_ns is None:
+                self._updated(r, now)
+            else:
+                self._bump(r)
+                self._evaluate(r, now)
 
     def tick(self) -> None:
         """Evaluate the timers (no motion, lost contact, floor unknown) of every responder."""
