@@ -39,6 +39,8 @@ from anfis_elevation_ros.tools.incident_demo import write_incident
 from browser_support import ARTIFACTS, start_chromium, stop_chromium, why_no_browser
 from incident_support import Processes, responders, START_TIMEOUT_S, wait_state
 import pytest
+from selenium.common.exceptions import NoSuchElementException, \
+    StaleElementReferenceException
 
 pytestmark = pytest.mark.skipif(why_no_browser() is not None, reason=str(why_no_browser()))
 
@@ -89,6 +91,15 @@ def page_wait(driver, condition, what, timeout_s=PAGE_WAIT_S):
         time.sleep(0.1)
     raise AssertionError(f'the page did not show {what} within {timeout_s} s; the roster '
                          f'showed {roster(driver)}')
+
+
+def click(driver, selector) -> bool:
+    """Click the element; False while it is absent or the roster redraws it under us."""
+    try:
+        driver.find_element('css selector', selector).click()
+        return True
+    except (NoSuchElementException, StaleElementReferenceException):
+        return False
 
 
 def roster(driver) -> dict:
@@ -159,21 +170,18 @@ def test_three_responders_live_in_the_browser(tmp_path, ff3_listener, browser):
         browser.save_screenshot(str(ARTIFACTS / 'command_centre_live.png'))
 
         # The bags have ended: the nodes still report diagnostics every second, but no
-        # tracking message comes, so lost contact is raised lost_contact_s after the last one
-        # (its time: the age the state gives, which counts on while nothing comes).
-        state = wait_state(url, lambda s: raised(s, '/ff1', 'lost_contact', 'alarm'),
-                           LOST_CONTACT_S + 10, "/ff1's lost contact after its bag ended")
-        lost_s = raised(state, '/ff1', 'lost_contact', 'alarm')
-        before_s = time.time()
-        age_s = responders(url)['/ff1']['last_update_age_s']
-        last_message_s = 0.5 * (before_s + time.time()) - age_s
-        assert LOST_CONTACT_S - 0.5 <= lost_s - last_message_s <= \
-            LOST_CONTACT_S + TICK_S + 0.5, lost_s - last_message_s
+        # tracking message comes: the age of /ff1's data grows past lost_contact_s (it would
+        # stay under 1 s if diagnostics counted) and its lost contact is then active. (Under
+        # load a start-up gap may have raised it earlier and it waits for an ack, so the time
+        # of its first raise is not the bag's end.)
+        wait_state(url, lambda s: responders(url)['/ff1']['last_update_age_s'] >=
+                   LOST_CONTACT_S + TICK_S + 0.5, LOST_CONTACT_S + 10,
+                   "/ff1's tracking silent after its bag ended")
+        assert any(a['kind'] == 'lost_contact' and a['cause_active']
+                   for a in responders(url)['/ff1']['alarms']), responders(url)['/ff1']
         lost = next(a for a in responders(url)['/ff1']['alarms'] if a['kind'] == 'lost_contact')
         ack = f'#roster button.ack[data-alarm="{lost["id"]}"]'
-        page_wait(browser, lambda d: d.find_elements('css selector', ack),
-                  "/ff1's lost contact in the roster")
-        browser.find_element('css selector', ack).click()
+        page_wait(browser, lambda d: click(d, ack), "/ff1's lost contact's Ack in the roster")
         page_wait(browser, lambda d: d.find_element('id', 'token-input').is_displayed(),
                   'the token dialog')
         browser.find_element('id', 'token-input').send_keys(token)
