@@ -154,8 +154,11 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
 
     assert wait_for(lambda: centre.responders == {'/ff7', '/ff8'}, 10.0), centre.responders
     # Each topic's latest message arrives on its own: wait for the pose and the cycle both.
-    assert wait_for(lambda: (responder('/ff7') or {}).get('x_m') == 1.5 and
-                    responder('/ff7').get('z_m') == 3.06, 10.0), responder('/ff7')
+    def ff7_state():
+        r = responder('/ff7') or {}
+        return tuple(r.get(k) for k in ('x_m', 'floor', 'floor_certain', 'mode', 'z_m'))
+
+    assert wait_for(lambda: ff7_state() == (1.5, 1, True, 1, 3.06), 10.0), responder('/ff7')
     ff7 = responder('/ff7')
     assert (ff7['floor'], ff7['floor_certain'], ff7['mode'], ff7['z_m']) == (1, True, 1, 3.06)
     assert ff7['sigma_xy_m'] == pytest.approx(0.4)          # sqrt(0.08 + 0.08)
