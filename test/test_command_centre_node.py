@@ -153,7 +153,8 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
                     None)
 
     assert wait_for(lambda: centre.responders == {'/ff7', '/ff8'}, 10.0), centre.responders
-    # Each topic's latest message arrives on its own: wait for the pose and the cycle both.
+
+    # Each topic's latest message arrives on its own: wait for every feed.
     def ff7_state():
         r = responder('/ff7') or {}
         return tuple(r.get(k) for k in ('x_m', 'floor', 'floor_certain', 'mode', 'z_m'))
