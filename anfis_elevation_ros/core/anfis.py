@@ -66,6 +66,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .errors import InputError
+from .json_file import read_json_file, write_text_atomically
 
 FORMAT_NAME = 'anfis_elevation_ros.anfis'
 """Value of the ``format`` key of a saved model."""
@@ -1083,15 +1084,7 @@ class Anfis:
             else:
                 text = json.dumps(value, allow_nan=False, sort_keys=True)
             lines.append(f'  {json.dumps(key)}: {text}')
-        path = os.fspath(path)
-        tmp_path = f'{path}.tmp{os.getpid()}'
-        try:
-            with open(tmp_path, 'w', encoding='utf-8') as stream:
-                stream.write('{\n' + ',\n'.join(lines) + '\n}\n')
-            os.replace(tmp_path, path)
-        finally:
-            if os.path.exists(tmp_path):
-                os.remove(tmp_path)
+        write_text_atomically(path, '{\n' + ',\n'.join(lines) + '\n}\n')
 
     @classmethod
     def load(cls, path) -> 'Anfis':
@@ -1106,34 +1099,7 @@ class Anfis:
         """
         path = os.fspath(path)
         hint = 'train a model (anfis_elevation_ros train) or pass the path of a saved one'
-        try:
-            with open(path, 'rb') as stream:
-                data = stream.read(MAX_MODEL_BYTES + 1)
-        except FileNotFoundError:
-            raise InputError(f'ANFIS model file not found: {path}; {hint}') from None
-        except OSError as err:
-            raise InputError(f'cannot read ANFIS model file {path}: {err}; {hint}') from None
-        if len(data) > MAX_MODEL_BYTES:
-            raise InputError(f'{path} is larger than {MAX_MODEL_BYTES} bytes: not an ANFIS model '
-                             f'file; {hint}')
-        try:
-            text = data.decode('utf-8')
-        except UnicodeDecodeError as err:
-            raise InputError(f'cannot read ANFIS model file {path}: {err}; {hint}') from None
-
-        def reject_constant(name):
-            raise InputError(f'{path}: non-finite number {name} in the model; re-save it from a '
-                             'valid model')
-
-        try:
-            doc = json.loads(text, parse_constant=reject_constant)
-        except InputError:
-            raise
-        # JSONDecodeError, and the ValueError of an integer of more than 4300 digits and the
-        # RecursionError of arrays nested too deep that json.loads also raises.
-        except (ValueError, RecursionError) as err:
-            raise InputError(f'{path} is not valid JSON ({err}); the file is corrupt or '
-                             f'truncated: {hint}') from None
+        doc = read_json_file(path, MAX_MODEL_BYTES, 'ANFIS model', hint)
         return cls._from_document(doc, path)
 
     @classmethod

@@ -34,8 +34,9 @@ import numpy as np
 
 from .anfis import Anfis, FORMAT_NAME as ANFIS_FORMAT, MAX_MODEL_BYTES
 from .errors import InputError
-from .forest import Forest, FORMAT_NAME as FOREST_FORMAT, MAX_FOREST_BYTES, read_json_file
+from .forest import Forest, FORMAT_NAME as FOREST_FORMAT, MAX_FOREST_BYTES
 from .gait import feature_index, N_FEATURES, PATENT_FEATURE_NAMES
+from .json_file import read_json_file
 
 BACKENDS = {'anfis': ANFIS_FORMAT, 'forest': FOREST_FORMAT}
 """Backend name -> ``format`` key of its model files."""

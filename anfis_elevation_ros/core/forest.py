@@ -43,6 +43,7 @@ import numpy as np
 from .errors import InputError
 from .gait import feature_index, N_FEATURES
 from .jit import jit
+from .json_file import read_json_file, write_text_atomically
 
 FORMAT_NAME = 'anfis_elevation_ros.forest'
 """Value of the ``format`` key of a forest file."""
@@ -224,15 +225,7 @@ class Forest:
             self.metadata_ = {**self.metadata_, **metadata}
         text = json.dumps(self.to_dict(), allow_nan=False, sort_keys=True,
                           separators=(',', ':'))
-        path = os.fspath(path)
-        tmp_path = f'{path}.tmp{os.getpid()}'
-        try:
-            with open(tmp_path, 'w', encoding='utf-8') as stream:
-                stream.write(text + '\n')
-            os.replace(tmp_path, path)
-        finally:
-            if os.path.exists(tmp_path):
-                os.remove(tmp_path)
+        write_text_atomically(path, text + '\n')
 
     @classmethod
     def load(cls, path) -> 'Forest':
@@ -300,37 +293,5 @@ def content_digest(doc: dict) -> str:
     return hashlib.sha256(text.encode('utf-8')).hexdigest()
 
 
-def read_json_file(path, max_bytes: int, what: str):
-    """
-    Parse a JSON file of at most ``max_bytes``; non-finite numbers are refused.
-
-    Raises
-    ------
-    InputError : missing, unreadable, too large, not UTF-8 or not valid JSON.
-
-    """
-    path = os.fspath(path)
-    try:
-        with open(path, 'rb') as stream:
-            data = stream.read(max_bytes + 1)
-    except FileNotFoundError:
-        raise InputError(f'{what} file not found: {path}') from None
-    except OSError as err:
-        raise InputError(f'cannot read {what} file {path}: {err}') from None
-    if len(data) > max_bytes:
-        raise InputError(f'{path} is larger than {max_bytes} bytes: not a {what} file')
-
-    def reject_constant(name):
-        raise InputError(f'{path}: non-finite number {name} in the {what}')
-
-    try:
-        return json.loads(data.decode('utf-8'), parse_constant=reject_constant)
-    except InputError:
-        raise
-    except (ValueError, RecursionError) as err:      # UnicodeDecodeError is a ValueError
-        raise InputError(f'{path} is not valid JSON ({err}): the {what} file is corrupt or '
-                         'truncated') from None
-
-
 __all__ = ['CLASSES', 'FORMAT_NAME', 'FORMAT_VERSION', 'Forest', 'content_digest',
-           'forest_probabilities', 'read_json_file']
+           'forest_probabilities']
