@@ -48,12 +48,12 @@ false when a value is not finite.
 
 from dataclasses import dataclass
 import math
-import struct
 
 import numpy as np
-from sensor_msgs.msg import PointCloud2, PointField
+from sensor_msgs.msg import PointCloud2
 
-from .stamps import ns_to_stamp, stamp_to_ns
+from .float64_point import Float64Point
+from .stamps import stamp_to_ns
 from ..core.errors import InputError
 from ..core.gait import FEATURE_NAMES, PATENT_FEATURE_NAMES
 from ..core.state import MAX_WALK_ID
@@ -64,7 +64,6 @@ CYCLE_FIELDS = ('x', 'y', 'z', 'valid') + PATENT_FEATURE_NAMES + ('cycle_index',
     + FEATURE_NAMES[len(PATENT_FEATURE_NAMES):]
 _INDEX_FIELD = CYCLE_FIELDS.index('cycle_index')
 _MOTION_FIELD = CYCLE_FIELDS.index('outage') + 1
-_CYCLE_STRUCT = struct.Struct('<' + 'd' * len(CYCLE_FIELDS))
 
 
 @dataclass(frozen=True)
@@ -102,7 +101,7 @@ class CycleMessage:
     outage: bool = False
 
 
-_CYCLE_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(CYCLE_FIELDS))
+_CYCLE_POINT = Float64Point('gait_cycle', CYCLE_FIELDS)
 
 
 def cycle_to_msg(cycle, frame_id: str, index: int, walk_id: int,
@@ -118,19 +117,7 @@ def cycle_to_msg(cycle, frame_id: str, index: int, walk_id: int,
     values = (*position, 1.0 if cycle.valid and finite else 0.0, *features[:_INDEX_FIELD - 4],
               float(index), float(walk_id), 1.0 if outage else 0.0,
               *features[_INDEX_FIELD - 4:])
-    msg = PointCloud2()
-    msg.header.stamp = ns_to_stamp(cycle.stamp_ns)
-    msg.header.frame_id = frame_id
-    msg.height = 1
-    msg.width = 1
-    msg.fields = [PointField(name=name, offset=offset, datatype=datatype, count=count)
-                  for name, offset, datatype, count in _CYCLE_LAYOUT]
-    msg.is_bigendian = False
-    msg.point_step = _CYCLE_STRUCT.size
-    msg.row_step = _CYCLE_STRUCT.size
-    msg.data = _CYCLE_STRUCT.pack(*values)
-    msg.is_dense = finite
-    return msg
+    return _CYCLE_POINT.to_msg(cycle.stamp_ns, frame_id, values, is_dense=finite)
 
 
 def cycle_from_msg(msg) -> CycleMessage:
@@ -142,14 +129,7 @@ def cycle_from_msg(msg) -> CycleMessage:
     InputError : not one point with exactly ``CYCLE_FIELDS`` as little-endian FLOAT64.
 
     """
-    layout = tuple((f.name, f.offset, f.datatype, f.count) for f in msg.fields)
-    if layout != _CYCLE_LAYOUT or msg.is_bigendian or msg.width * msg.height != 1 \
-            or msg.point_step != _CYCLE_STRUCT.size or len(msg.data) != _CYCLE_STRUCT.size:
-        raise InputError(f'gait_cycle message does not have the expected layout (one point, '
-                         f'fields {", ".join(CYCLE_FIELDS)} as FLOAT64); got fields '
-                         f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
-                         f'{len(msg.data)} bytes')
-    values = _CYCLE_STRUCT.unpack(bytes(msg.data))
+    values = _CYCLE_POINT.values_from_msg(msg)
     index, walk_id, outage = values[_INDEX_FIELD:_MOTION_FIELD]
     if not (math.isfinite(index) and index == int(index) and 1 <= index < 2 ** 53):
         raise InputError(f'gait_cycle message has cycle_index {index!r}, not a count')

@@ -38,36 +38,23 @@ The stairwell's name stays in the classifier's log; the IMU node does not need i
 """
 
 import math
-import struct
 
-from sensor_msgs.msg import PointCloud2, PointField
+from sensor_msgs.msg import PointCloud2
 
-from .stamps import ns_to_stamp, stamp_to_ns
+from .float64_point import Float64Point
+from .stamps import stamp_to_ns
 from ..core.errors import InputError
 from ..core.stair_database import CorrectionRequest
 
 FIX_FIELDS = ('x', 'y', 'entry_x', 'entry_y', 'floor', 'direction', 'cycle_index')
-_FIX_STRUCT = struct.Struct('<' + 'd' * len(FIX_FIELDS))
-_FIX_LAYOUT = tuple((name, 8 * i, PointField.FLOAT64, 1) for i, name in enumerate(FIX_FIELDS))
+_FIX_POINT = Float64Point('stair_fix', FIX_FIELDS)
 
 
 def request_to_msg(request: CorrectionRequest, frame_id: str) -> PointCloud2:
     """PointCloud2 of one correction request (layout in the module docstring)."""
-    msg = PointCloud2()
-    msg.header.stamp = ns_to_stamp(request.stamp_ns)
-    msg.header.frame_id = frame_id
-    msg.height = 1
-    msg.width = 1
-    msg.fields = [PointField(name=name, offset=offset, datatype=datatype, count=count)
-                  for name, offset, datatype, count in _FIX_LAYOUT]
-    msg.is_bigendian = False
-    msg.point_step = _FIX_STRUCT.size
-    msg.row_step = _FIX_STRUCT.size
-    msg.data = _FIX_STRUCT.pack(request.x_m, request.y_m, request.entry_x_m, request.entry_y_m,
-                                float(request.floor), float(request.direction),
-                                float(request.cycle_index))
-    msg.is_dense = True
-    return msg
+    return _FIX_POINT.to_msg(request.stamp_ns, frame_id, (
+        request.x_m, request.y_m, request.entry_x_m, request.entry_y_m, float(request.floor),
+        float(request.direction), float(request.cycle_index)))
 
 
 def request_from_msg(msg) -> CorrectionRequest:
@@ -81,14 +68,7 @@ def request_from_msg(msg) -> CorrectionRequest:
         whole numbers).
 
     """
-    layout = tuple((f.name, f.offset, f.datatype, f.count) for f in msg.fields)
-    if layout != _FIX_LAYOUT or msg.is_bigendian or msg.width * msg.height != 1 \
-            or msg.point_step != _FIX_STRUCT.size or len(msg.data) != _FIX_STRUCT.size:
-        raise InputError(f'stair_fix message does not have the expected layout (one point, '
-                         f'fields {", ".join(FIX_FIELDS)} as FLOAT64); got fields '
-                         f'{[f.name for f in msg.fields]}, {msg.width}x{msg.height} points, '
-                         f'{len(msg.data)} bytes')
-    x, y, entry_x, entry_y, floor, direction, index = _FIX_STRUCT.unpack(bytes(msg.data))
+    x, y, entry_x, entry_y, floor, direction, index = _FIX_POINT.values_from_msg(msg)
     for name, value in (('floor', floor), ('direction', direction), ('cycle_index', index)):
         if not (math.isfinite(value) and value == int(value) and abs(value) < 2 ** 53):
             raise InputError(f'stair_fix message has {name} {value!r}, not a whole number')
