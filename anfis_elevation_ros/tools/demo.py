@@ -51,11 +51,11 @@ QUIET_S = 1.5            # after the last message, wait this long for the last c
 START_TIMEOUT_S = 30.0   # the nodes must subscribe within this
 
 
-def _log(message: str):
+def log(message: str):
     print(f'[demo] {message}', file=sys.stderr, flush=True)
 
 
-def _stop(proc: subprocess.Popen):
+def stop_process(proc: subprocess.Popen):
     """Stop the nodes' process with SIGINT (then SIGKILL if it hangs); return its exit code."""
     if proc.poll() is None:
         proc.send_signal(signal.SIGINT)
@@ -124,7 +124,7 @@ def run_demo(args) -> int:
         load_building(args.building)            # a bad file stops here, with its key named
         command += ['--building', str(Path(args.building).resolve())]
     command += ['--ros-args', '-p', f'state_dir:={state_dir}']
-    _log(f'starting the nodes: {" ".join(command[1:])}')
+    log(f'starting the nodes: {" ".join(command[1:])}')
     started = time.monotonic()
     proc = subprocess.Popen(command, stdin=subprocess.DEVNULL)
     rclpy.init(args=['demo'])
@@ -142,14 +142,14 @@ def run_demo(args) -> int:
             if proc.poll() is not None or time.monotonic() > deadline:
                 raise InputError('the nodes did not start (see the messages above); '
                                  f'exit code {proc.poll()}')
-        _log(f'playing {bag} ({len(recording)} IMU messages, {recording.rate_hz:.0f} Hz) at '
-             f'{args.rate:g}x')
+        log(f'playing {bag} ({len(recording)} IMU messages, {recording.rate_hz:.0f} Hz) at '
+            f'{args.rate:g}x')
         result = player.play(rate=args.rate, stop=lambda: proc.poll() is not None)
-        _log(f'published {result.published} messages in {result.wall_s:.1f} s')
+        log(f'published {result.published} messages in {result.wall_s:.1f} s')
         time.sleep(1.0)                      # the last messages are still being processed
         _wait_quiet(listener)
     finally:
-        code = _stop(proc)
+        code = stop_process(proc)
         executor.shutdown()
         for node in (player, listener):
             if node is not None:
@@ -166,7 +166,7 @@ def run_demo(args) -> int:
                f'{floors[-1][0] if floors else "-"}')
     if truth is not None and len(truth[1]):
         summary += f' (true final height {truth[1][-1]:.2f} m)'
-    _log(f'{summary}; recorded {outputs}; wrote {png} in {time.monotonic() - started:.0f} s')
+    log(f'{summary}; recorded {outputs}; wrote {png} in {time.monotonic() - started:.0f} s')
     return 0
 
 

@@ -39,6 +39,7 @@ import sys
 import time
 import urllib.request
 
+from .demo import log, stop_process
 from ..core.errors import InputError
 
 START_TIMEOUT_S = 60.0     # the command centre prints its URL within this
@@ -101,20 +102,6 @@ def _cli(*args) -> list:
     return [sys.executable, '-m', 'anfis_elevation_ros', *(str(a) for a in args)]
 
 
-def _stop(proc):
-    if proc.poll() is None:
-        proc.send_signal(signal.SIGINT)
-        try:
-            proc.wait(timeout=15.0)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
-
-
-def _log(message: str):
-    print(f'[demo] {message}', file=sys.stderr, flush=True)
-
-
 def run_incident_demo(args) -> int:
     """Run the demo with ``args.responders`` responders; return the exit code."""
     from .screenshot import screenshot, why_no_browser
@@ -124,7 +111,7 @@ def run_incident_demo(args) -> int:
     plans = RESPONDERS[:args.responders]
     out = Path(args.out)
     started = time.monotonic()
-    _log(f'simulating {len(plans)} responders in a three-storey tower')
+    log(f'simulating {len(plans)} responders in a three-storey tower')
     building, bags = write_incident(out, plans)
     compile_navigator()        # once, into numba's cache, not in every responder's process
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
@@ -158,7 +145,7 @@ def run_incident_demo(args) -> int:
                          _cli('play', bag, '--topic', f'{ns}/imu/data', '--rate', args.rate,
                               '--wait-s', START_TIMEOUT_S))
                    for ns, bag in bags.items()]
-        _log(f'playing {len(players)} walks at {args.rate:g}x; open {url} to watch')
+        log(f'playing {len(players)} walks at {args.rate:g}x; open {url} to watch')
         for player in players:
             player.wait(timeout=START_TIMEOUT_S + PLAY_MARGIN_S + 70.0 / args.rate)
             if player.returncode != 0:
@@ -167,17 +154,17 @@ def run_incident_demo(args) -> int:
         state = fetch_state(url)
         floors = {r['id']: r['floor'] for r in state['responders']}
         for plan in plans:
-            _log(f'{plan.namespace}: floor {floors.get(plan.namespace, "-")} on the page, '
-                 f'{plan.final_floor} in truth')
+            log(f'{plan.namespace}: floor {floors.get(plan.namespace, "-")} on the page, '
+                f'{plan.final_floor} in truth')
         reason = why_no_browser()
         if reason is None:
             png = out / 'command_centre.png'
             screenshot(url, png, "return document.querySelectorAll('#roster tbody tr').length "
                        f'>= {len(plans)}')
-            _log(f'wrote {png}')
+            log(f'wrote {png}')
         else:
-            _log(f'no screenshot: {reason}')
-        _log(f'done in {time.monotonic() - started:.0f} s; logs in {logs}')
+            log(f'no screenshot: {reason}')
+        log(f'done in {time.monotonic() - started:.0f} s; logs in {logs}')
         if args.keep_open:
             print(f'Command centre still at {url}; Ctrl-C to stop', flush=True)
             stop_signals = {signal.SIGINT, signal.SIGTERM}
@@ -185,5 +172,5 @@ def run_incident_demo(args) -> int:
             signal.sigwait(stop_signals)
     finally:
         for proc in reversed(procs):
-            _stop(proc)
+            stop_process(proc)
     return 0
