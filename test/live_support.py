@@ -176,8 +176,12 @@ def play_at_recorded_pace(bag, publish_log) -> np.ndarray:
 
 
 @contextmanager
-def listening():
-    """Start rclpy and a CycleListener spun in a background thread; shut both down after."""
+def listening(**node_kwargs):
+    """
+    Start rclpy and a CycleListener spun in a background thread; shut both down after.
+
+    ``node_kwargs`` go to the listener (``namespace='/ff3'`` listens to that responder).
+    """
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
 
@@ -185,7 +189,7 @@ def listening():
 
     rclpy.init()
     executor = SingleThreadedExecutor()
-    listener = CycleListener()
+    listener = CycleListener(**node_kwargs)
     executor.add_node(listener)
     thread = threading.Thread(target=executor.spin, daemon=True)
     thread.start()

@@ -31,13 +31,13 @@ timers (real time), and chromium driven by Selenium:
 A screenshot of the page is kept in test_artifacts/.
 """
 
-import threading
 import time
 
 from anfis_elevation_ros.sim.responders import RESPONDERS
 from anfis_elevation_ros.tools.incident_demo import write_incident
 from browser_support import ARTIFACTS, start_chromium, stop_chromium, why_no_browser
 from incident_support import Processes, responders, START_TIMEOUT_S, wait_state
+from live_support import listening
 import pytest
 from selenium.common.exceptions import NoSuchElementException, \
     StaleElementReferenceException
@@ -53,24 +53,8 @@ PAGE_WAIT_S = 15.0
 @pytest.fixture()
 def ff3_listener():
     """Listen to /ff3's elevation in this process (the time of its last gait cycle)."""
-    import rclpy
-    from rclpy.executors import SingleThreadedExecutor
-
-    from anfis_elevation_ros.tools.ros_io import CycleListener
-
-    rclpy.init()
-    executor = SingleThreadedExecutor()
-    listener = CycleListener(namespace='/ff3')
-    executor.add_node(listener)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
-    try:
+    with listening(namespace='/ff3') as listener:
         yield listener
-    finally:
-        executor.shutdown()
-        listener.destroy_node()
-        rclpy.try_shutdown()
-        thread.join(timeout=5.0)
 
 
 @pytest.fixture()
