@@ -17,6 +17,7 @@
 from pathlib import Path
 import shutil
 import tempfile
+import time
 
 CHROMIUM_FLAGS = ('--headless', '--no-sandbox', '--disable-gpu', '--disable-quic',
                   '--no-first-run', '--disable-background-networking',
@@ -54,6 +55,22 @@ def start_chromium():
     except Exception:
         shutil.rmtree(profile, ignore_errors=True)
         raise
+
+
+def wait_on_page(driver, condition, what, timeout_s, shown=None):
+    """
+    Poll ``condition(driver)`` until truthy and return it; fail saying ``what`` otherwise.
+
+    ``shown(driver)``, when given, is added to the failure: what the page showed instead.
+    """
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        value = condition(driver)
+        if value:
+            return value
+        time.sleep(0.05)
+    seen = f'; the page showed {shown(driver)}' if shown is not None else ''
+    raise AssertionError(f'the page did not show {what} within {timeout_s} s{seen}')
 
 
 def stop_chromium(driver, profile) -> None:

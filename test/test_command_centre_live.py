@@ -31,11 +31,11 @@ timers (real time), and chromium driven by Selenium:
 A screenshot of the page is kept in test_artifacts/.
 """
 
-import time
 
 from anfis_elevation_ros.sim.responders import RESPONDERS
 from anfis_elevation_ros.tools.incident_demo import write_incident
-from browser_support import ARTIFACTS, start_chromium, stop_chromium, why_no_browser
+from browser_support import ARTIFACTS, start_chromium, stop_chromium, wait_on_page, \
+    why_no_browser
 from incident_support import Processes, responders, START_TIMEOUT_S, wait_state
 from live_support import listening
 import pytest
@@ -66,15 +66,8 @@ def browser():
 
 
 def page_wait(driver, condition, what, timeout_s=PAGE_WAIT_S):
-    """Poll ``condition(driver)`` until truthy; fail saying ``what`` and the roster otherwise."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        value = condition(driver)
-        if value:
-            return value
-        time.sleep(0.1)
-    raise AssertionError(f'the page did not show {what} within {timeout_s} s; the roster '
-                         f'showed {roster(driver)}')
+    """Wait for ``condition`` on the page; a failure says what the roster showed."""
+    return wait_on_page(driver, condition, what, timeout_s, shown=roster)
 
 
 def click(driver, selector) -> bool:

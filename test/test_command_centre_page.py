@@ -27,7 +27,8 @@ import time
 from anfis_elevation_ros.command_centre.alarms import AlarmParams
 from anfis_elevation_ros.command_centre.incident import Incident
 from anfis_elevation_ros.core.building import building_from_dict
-from browser_support import ARTIFACTS, start_chromium, stop_chromium, why_no_browser
+from browser_support import ARTIFACTS, start_chromium, stop_chromium, wait_on_page, \
+    why_no_browser
 from command_centre_support import FakeClock, running_server, TOKEN
 import pytest
 
@@ -75,14 +76,8 @@ def walk(incident, clock, seconds, still=()):
 
 
 def wait_until(driver, condition, what, timeout_s=WAIT_S):
-    """Poll ``condition(driver)`` until truthy; fail saying ``what`` otherwise."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        value = condition(driver)
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f'the page did not show {what} within {timeout_s} s')
+    """Wait for ``condition`` on the page (``browser_support.wait_on_page``)."""
+    return wait_on_page(driver, condition, what, timeout_s)
 
 
 def roster(driver):
