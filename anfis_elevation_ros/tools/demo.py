@@ -49,6 +49,7 @@ SAMPLE_DIR = Path(__file__).resolve().parents[1] / 'data' / 'sample_walk'
 MODE_NAMES = {1: 'up', 0: 'level', -1: 'down'}
 QUIET_S = 1.5            # after the last message, wait this long for the last cycles
 START_TIMEOUT_S = 30.0   # the nodes must subscribe within this
+READY_TIMEOUT_S = 180.0  # and be ready within this (numba compiles for 30-60 s on a new machine)
 
 
 def log(message: str):
@@ -142,6 +143,14 @@ def run_demo(args) -> int:
             if proc.poll() is not None or time.monotonic() > deadline:
                 raise InputError('the nodes did not start (see the messages above); '
                                  f'exit code {proc.poll()}')
+        # The IMU node subscribes before it compiles its numba code and publishes diagnostics
+        # after: playing before them would lose the walk's first half on a new machine.
+        deadline = time.monotonic() + READY_TIMEOUT_S
+        while not any(name.startswith('/imu_node:') for name in list(listener.diagnostics)):
+            if proc.poll() is not None or time.monotonic() > deadline:
+                raise InputError('the IMU node did not become ready (see the messages above); '
+                                 f'exit code {proc.poll()}')
+            time.sleep(0.2)
         log(f'playing {bag} ({len(recording)} IMU messages, {recording.rate_hz:.0f} Hz) at '
             f'{args.rate:g}x')
         result = player.play(rate=args.rate, stop=lambda: proc.poll() is not None)
