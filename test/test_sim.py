@@ -285,6 +285,39 @@ def test_random_walk_varies_with_the_seed_and_spans_the_gait_ranges():
         sim.random_walk(60.0, np.random.default_rng(0), steps_per_stride_weights=(1, 1))
 
 
+def _storey_traversals(segments) -> list:
+    """(lower floor, flights) of each stair traversal of a random_walk plan, in order."""
+    traversals, floor = [], 0
+    for i, seg in enumerate(segments):
+        if seg.kind != 'stairs':
+            continue
+        landing = segments[i - 1]
+        if landing.kind == 'level' and landing.stride_length_m == 0.7 and traversals:
+            traversals[-1][1].append(seg)                    # the next flight after a landing
+            continue
+        if traversals:
+            floor += traversals[-1][1][0].direction
+        traversals.append((min(floor, floor + seg.direction), [seg]))
+    return traversals
+
+
+def test_random_walk_stairs_are_the_buildings_one_geometry_per_storey():
+    # The stairs between floors f and f + 1 are the same whenever and whichever way they are
+    # walked (riser height, steps per flight, flights); storeys differ from each other.
+    traversals = _storey_traversals(sim.random_walk(1800.0, np.random.default_rng(5)))
+    geometry, walked = {}, {}
+    for lower, flights in traversals:
+        shape = (flights[0].step_height_m, flights[0].n_steps, len(flights))
+        assert all((f.step_height_m, f.n_steps) == shape[:2] for f in flights)
+        assert geometry.setdefault(lower, shape) == shape, (lower, shape, geometry[lower])
+        walked.setdefault(lower, set()).add(flights[0].direction)
+        assert abs(lower) <= 3 and -3 <= lower + 1 <= 3
+    assert any(len(d) == 2 for d in walked.values())          # a storey walked up and down
+    assert len({shape[0] for shape in geometry.values()}) == len(geometry) > 2
+    per_stride = {f.steps_per_stride for _, flights in traversals for f in flights}
+    assert len(per_stride) > 1                                # the wearer's choice varies
+
+
 def test_sample_walk_is_a_short_demo_up_and_down():
     walk = sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(1), rate_hz=100.0,
                              imu='ideal')

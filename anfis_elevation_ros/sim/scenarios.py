@@ -174,12 +174,16 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
     """
     Plan a random mixture of level walking, stair flights, turns and stops (training data).
 
-    Activities are drawn until the nominal duration reaches ``duration_s`` (minus simulate_walk's
-    default stands): level walks of 3-15 strides (straight or turning up to 180 deg), stair
-    flights of 6-20 steps (often two flights with a landing turn) with a riser height drawn per
-    staircase from ``step_height_range_m`` and steps per stride 1..4 drawn with
-    ``steps_per_stride_weights``, turns on the spot of 45-180 deg and stops of 2-10 s. The floor
-    stays within +-``max_floors`` flights of the start.
+    The building's stairs are drawn first, once per storey (floors f to f + 1, f in
+    [-``max_floors``, ``max_floors`` - 1], from the lowest up): its riser height from
+    ``step_height_range_m`` (storeys may differ), its steps per flight, 6-20, and its flights,
+    two with a landing turn (probability 0.6) or one. Then activities are drawn until the
+    nominal duration reaches ``duration_s`` (minus simulate_walk's default stands): level walks
+    of 3-15 strides (straight or turning up to 180 deg), a storey of stairs up or down (the
+    storey's own geometry whenever it is walked; per traversal the wearer's steps per stride
+    1..4, drawn with ``steps_per_stride_weights``, and the side of the landing turn), turns on
+    the spot of 45-180 deg and stops of 2-10 s. The floor stays within +-``max_floors`` storeys
+    of the start.
 
     Returns
     -------
@@ -197,7 +201,9 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
         raise InputError(f'steps_per_stride_weights={steps_per_stride_weights} must be 4 '
                          'non-negative weights for 1, 2, 3, 4 steps per stride')
     weights = weights / weights.sum()
+    check_range('max_floors', max_floors, 1, 100)
     budget = duration_s - DEFAULT_INITIAL_STAND_S - DEFAULT_FINAL_STAND_S
+    storeys = {f: _draw_storey(rng, (low, high)) for f in range(-max_floors, max_floors)}
     segments = []
     elapsed = 0.0
     floor = 0
@@ -211,9 +217,7 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
             direction = int(rng.choice((-1, 1)))
             if abs(floor + direction) > max_floors:
                 direction = -direction
-            flights = 2 if rng.uniform() < 0.6 else 1
-            k = draw_uniform(rng, (low, high))
-            steps = int(rng.integers(6, 21))
+            k, steps, flights = storeys[min(floor, floor + direction)]
             per_stride = int(rng.choice(4, p=weights)) + 1
             side = float(rng.choice((-1.0, 1.0)))
             new = [Segment.level(1)]
@@ -230,6 +234,14 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
         segments.extend(new)
         elapsed += nominal_duration_s(new, gait)
     return tuple(segments)
+
+
+def _draw_storey(rng: np.random.Generator, step_height_range_m: tuple) -> tuple:
+    """Draw one storey's stairs: (riser height K in m, steps per flight, number of flights)."""
+    step_height_m = draw_uniform(rng, step_height_range_m)
+    steps = int(rng.integers(6, 21))
+    flights = 2 if rng.uniform() < 0.6 else 1
+    return step_height_m, steps, flights
 
 
 def sample_walk() -> tuple:
