@@ -47,8 +47,9 @@ Publishes:
     turned so that its first strides point along ``start.heading_deg``, ``core/map_frame.py``;
     stair-entry corrections make it jump, as a map-frame pose may).
     ``/diagnostics``, diagnostic_msgs/DiagnosticArray, at ``diagnostics_rate_hz`` (1 Hz):
-    "/imu_node: IMU input" (rate, refusals by reason, saturated samples, gaps, samples lost
-    in transit estimated from the stamps: WARN above 1 % per period) and
+    "/imu_node: IMU input" (its topic, ``imu_topic``; rate, refusals by reason, saturated
+    samples, gaps, samples lost in transit estimated from the stamps: WARN above 1 % per
+    period; the first is published once the navigator is compiled: ready) and
     "/imu_node: foot navigator" (initialised, stance fraction, cycles, NIS, position sigma,
     resumed or not, state file and failed writes; with stairs: stair-entry corrections
     received, applied, pending, late, duplicate, stale, malformed, last NIS). The names start
@@ -474,7 +475,9 @@ class ImuNode(PersistsState, Node):
                                                      f'{flagged_now[SATURATED]} saturated')
         else:
             level, message = DiagnosticStatus.OK, 'ok'
-        values = {'input_rate_hz': received_now / period_s, 'received': self._received,
+        # The input topic tells a player which node this is: its first diagnostics say it is ready.
+        values = {'imu_topic': self._imu_topic,
+                  'input_rate_hz': received_now / period_s, 'received': self._received,
                   'accepted': gate.accepted, 'rejected': gate.rejected_total}
         values.update({f'rejected_{r}': gate.rejected[r] for r in REJECT_REASONS})
         values.update({f'{r}_count': gate.flagged[r] for r in FLAG_REASONS})

@@ -143,14 +143,9 @@ def run_demo(args) -> int:
             if proc.poll() is not None or time.monotonic() > deadline:
                 raise InputError('the nodes did not start (see the messages above); '
                                  f'exit code {proc.poll()}')
-        # The IMU node subscribes before it compiles its numba code and publishes diagnostics
-        # after: playing before them would lose the walk's first half on a new machine.
-        deadline = time.monotonic() + READY_TIMEOUT_S
-        while not any(name.startswith('/imu_node:') for name in list(listener.diagnostics)):
-            if proc.poll() is not None or time.monotonic() > deadline:
-                raise InputError('the IMU node did not become ready (see the messages above); '
-                                 f'exit code {proc.poll()}')
-            time.sleep(0.2)
+        if not player.wait_until_ready(READY_TIMEOUT_S, stop=lambda: proc.poll() is not None):
+            raise InputError('the IMU node did not become ready (see the messages above); '
+                             f'exit code {proc.poll()}')
         log(f'playing {bag} ({len(recording)} IMU messages, {recording.rate_hz:.0f} Hz) at '
             f'{args.rate:g}x')
         result = player.play(rate=args.rate, stop=lambda: proc.poll() is not None)

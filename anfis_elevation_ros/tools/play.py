@@ -15,7 +15,9 @@
 """
 ``play`` subcommand: publish a bag's sensor_msgs/Imu messages live, paced by their stamps.
 
-Waits until the topic has a subscriber (``--wait-s``), then publishes every message at the
+Waits until the topic has a subscriber (``--wait-s``) and the IMU node reading it is ready
+(its first diagnostics, ``--ready-s``: on a new machine it compiles for 30-60 s first, and a
+walk played meanwhile would lose its start), then publishes every message at the
 recorded pace (``--rate 1``), scaled (``--rate 2`` is twice as fast), or with ``--rate 0`` as
 fast as a Python subscriber can follow: at most ``--max-rate-hz`` messages per second (the
 IMU node handles about 2000 Imu messages/s). The publisher stays up until every message is
@@ -56,6 +58,13 @@ def run_play(args) -> int:
         if not player.wait_for_subscribers(args.subscribers, timeout_s=args.wait_s):
             raise InputError(f'no subscriber on {topic} after {args.wait_s:g} s; start the '
                              'nodes first (python -m anfis_elevation_ros run)')
+        if args.ready_s > 0:
+            log('waiting for the IMU node to be ready (its first diagnostics; the first run on '
+                'a machine compiles for 30-60 s)')
+            if not player.wait_until_ready(args.ready_s):
+                raise InputError(f'no IMU node reading {topic} reported ready in '
+                                 f'{args.ready_s:g} s; --ready-s 0 plays as soon as a '
+                                 'subscriber appears')
         result = player.play(rate=args.rate, max_rate_hz=args.max_rate_hz)
         time.sleep(args.linger_s)
         log(f'published {result.published} messages in {result.wall_s:.1f} s '
@@ -103,6 +112,9 @@ def add_parser(subparsers):
                         help='never publish more messages per second than this')
     parser.add_argument('--wait-s', type=float, default=10.0,
                         help='how long to wait for a subscriber')
+    parser.add_argument('--ready-s', type=float, default=180.0,
+                        help="then wait this long for the IMU node's first diagnostics (it is "
+                        'compiled); 0 does not wait (a subscriber of another kind)')
     parser.add_argument('--subscribers', type=int, default=1,
                         help='subscribers to wait for')
     parser.add_argument('--linger-s', type=float, default=1.0,

@@ -117,6 +117,48 @@ class ImuPlayer(Node):
         time.sleep(settle_s)
         return True
 
+    def wait_until_ready(self, timeout_s: float = 180.0, stop=None) -> bool:
+        """
+        Wait until an IMU node that reads this topic publishes diagnostics; False on timeout.
+
+        The IMU node subscribes before it loads its numba code and publishes diagnostics (whose
+        "IMU input" status names its topic, ``imu_topic``) only after. Loading takes about 2 s;
+        on a new machine, with numba's cache empty, compiling takes 30-60 s, and a walk
+        played meanwhile loses all but its newest samples (``imu_qos_depth``).
+
+        Parameters
+        ----------
+        timeout_s : float
+            Longest wait, s.
+        stop : callable or None
+            Polled while waiting; True gives up (returns False).
+
+        """
+        from diagnostic_msgs.msg import DiagnosticArray
+        import rclpy
+
+        from ..nodes.qos import DIAGNOSTICS_QOS
+
+        topic = self.publisher.topic_name
+        ready = []
+
+        def on_diagnostics(msg):
+            ready.extend(status.name for status in msg.status
+                         if any(kv.key == 'imu_topic' and kv.value == topic
+                                for kv in status.values))
+
+        subscription = self.create_subscription(DiagnosticArray, '/diagnostics', on_diagnostics,
+                                                DIAGNOSTICS_QOS)
+        try:
+            deadline = time.monotonic() + timeout_s
+            while not ready:
+                if time.monotonic() > deadline or (stop is not None and stop()):
+                    return False
+                rclpy.spin_once(self, timeout_sec=0.2)
+            return True
+        finally:
+            self.destroy_subscription(subscription)
+
     def play(self, rate: float = 1.0, max_rate_hz: float = 2000.0, stop=None) -> PlayResult:
         """
         Publish every sample once, paced by its stamps.
