@@ -39,7 +39,7 @@ import sys
 import time
 import urllib.request
 
-from .demo import log, stop_process
+from .demo import log, READY_TIMEOUT_S, stop_process
 from ..core.errors import InputError
 
 START_TIMEOUT_S = 60.0     # the command centre prints its URL within this
@@ -143,11 +143,12 @@ def run_incident_demo(args) -> int:
                              '--ros-args', '-p', f'state_dir:={state_dir}'))
         players = [start(f'play_{ns.strip("/")}',
                          _cli('play', bag, '--topic', f'{ns}/imu/data', '--rate', args.rate,
-                              '--wait-s', START_TIMEOUT_S))
+                              '--wait-s', START_TIMEOUT_S, '--ready-s', READY_TIMEOUT_S))
                    for ns, bag in bags.items()]
         log(f'playing {len(players)} walks at {args.rate:g}x; open {url} to watch')
         for player in players:
-            player.wait(timeout=START_TIMEOUT_S + PLAY_MARGIN_S + 70.0 / args.rate)
+            player.wait(timeout=START_TIMEOUT_S + READY_TIMEOUT_S + PLAY_MARGIN_S
+                        + 70.0 / args.rate)
             if player.returncode != 0:
                 raise InputError(f'a player failed (see {logs})')
         time.sleep(2.0)
