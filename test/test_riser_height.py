@@ -163,3 +163,21 @@ def test_a_flight_back_down_the_same_stairs_joins_them_whatever_its_strides_say(
     wells.add(-0.306, 0.56, (30.5, 0.0))
     wells.end_flight(-2)
     assert wells.stairwells == 2
+
+
+def test_the_flight_under_the_end_of_another_storeys_stairs_is_not_them():
+    """Down from floor 1 to 0 with 0.185 m risers, then up from -1 to 0 (0.152 m) right below."""
+    wells = StairwellRiserHeights(0.17)
+    wells.start_flight((0.0, 0.0), -1, 3.33)
+    for i in range(9):
+        wells.add(-0.37, 0.56, (0.56 * (i + 1), 0.0))
+    wells.end_flight(-18, 0.0)
+    wells.start_flight((4.5, 0.5), 1, -3.04)         # where it ended, but a storey lower
+    for i in range(10):
+        wells.add(0.304, 0.56, (4.5 - 0.56 * (i + 1), 0.5))
+    assert wells.estimate_m == pytest.approx(0.152, abs=0.002)
+    wells.end_flight(20, 0.0)
+    assert wells.stairwells == 2
+    wells.start_flight((5.0, 0.3), 1, 0.0)           # the same stairs back up: joins them
+    wells.add(0.30, 0.56, (4.5, 0.3))                 # (a stride of 0.15 m risers: still)
+    assert wells.estimate_m == pytest.approx(0.185, abs=0.002)

@@ -560,7 +560,7 @@ class ElevationTracker:
         if mode != self._flight_mode:
             self._end_flight(mode)
             if mode != MODE_LEVEL:
-                self.risers.start_flight(start_xy, mode)
+                self.risers.start_flight(start_xy, mode, self.height_m)
         if mode == MODE_LEVEL:
             self.slope.add_level(dh_m, length_m)
         else:
@@ -608,7 +608,7 @@ class ElevationTracker:
 
     def _end_flight(self, mode: int):
         """Fix the current flight's riser count in its stairwell; start a flight of ``mode``."""
-        self.risers.end_flight(self._flight_risers())
+        self.risers.end_flight(self._flight_risers(), self.height_m)
         self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self._flight_mode = mode
 

@@ -84,6 +84,12 @@ SLOPE_MIN_LENGTH_M = 0.5
 SAME_STAIRS_M = 3.0
 """A flight starting this close (m) to where a stairwell's last flight ended is in it."""
 
+SAME_LEVEL_M = 0.5
+"""... and at a height this close (m) to that flight's end: not a storey above or below.
+
+Less than half the shortest flight (6 risers of 0.14 m), more than the height error allowed.
+"""
+
 RESUMED_SIGMA_M = 0.001
 """Narrowest prior of a resumed estimate, m (the grid step)."""
 
@@ -319,10 +325,11 @@ class StairwellRiserHeights:
     riser height best explains its strides so far, or to a new one, by Bayesian evidence
     (:func:`stairwell_evidence`): a stairwell of another K, or a flight of one stair too many,
     is told apart after a stride or two. A flight back the other way that starts within
-    :data:`SAME_STAIRS_M` of where a stairwell's last flight ended (a turn back down the same
-    stairs) is in that stairwell whatever its strides say: over a few metres the track does not
-    drift, and strides up and down the same stairs can differ by 10 % (an IMU's cross-axis
-    errors). Each
+    :data:`SAME_STAIRS_M` of where a stairwell's last flight ended, and within
+    :data:`SAME_LEVEL_M` of its end height (a turn back down the same stairs, not the next
+    storey's stairs under them), is in that stairwell whatever its strides say: over a few
+    metres the track does not drift, and strides up and down the same stairs can differ by
+    10 % (an IMU's cross-axis errors). Each
     stairwell keeps the net risers N_w of its finished flights, so that the height they add is
     K_w N_w with the latest K_w.
 
@@ -337,20 +344,27 @@ class StairwellRiserHeights:
                  prior_sigma_m: float = PRIOR_SIGMA_M):
         self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
         # [estimator, net risers of its finished flights, (x, y) where its last flight ended,
-        #  that flight's direction]
+        #  that flight's direction, the height it ended at]
         self._wells = []
         self._flight_log_likelihood = None
         self._flight_strides = 0
         self._flight_start_xy = self._flight_end_xy = None
         self._flight_direction = 0
+        self._flight_start_height_m = None
         self._index = None          # stairwell of the open (or last) flight; None: a new one
 
-    def start_flight(self, start_xy: Optional[tuple] = None, direction: int = 0):
-        """Open a flight (+1 up, -1 down) at (x, y), m: its strides are its own until it ends."""
+    def start_flight(self, start_xy: Optional[tuple] = None, direction: int = 0,
+                     start_height_m: Optional[float] = None):
+        """
+        Open a flight (+1 up, -1 down) at (x, y) and height, m.
+
+        Its strides are its own until it ends.
+        """
         self._flight_log_likelihood = np.zeros(len(K_GRID_M))
         self._flight_strides = 0
         self._flight_start_xy = self._flight_end_xy = start_xy
         self._flight_direction = int(direction)
+        self._flight_start_height_m = start_height_m
         self._index = None
 
     def add(self, dh_m: float, length_m: Optional[float] = None,
@@ -378,30 +392,33 @@ class StairwellRiserHeights:
             self._index = 0 if self._wells else None
         return self.estimate_m
 
-    def end_flight(self, risers: int):
-        """Close the open flight: its strides and signed riser count join its stairwell."""
+    def end_flight(self, risers: int, end_height_m: Optional[float] = None):
+        """Close the open flight (ending at a height, m): its strides and risers join its well."""
         if self._flight_log_likelihood is None or not self._flight_strides:
             self._flight_log_likelihood = None
             return
         if self._index is None:
             first = self._template
             self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
-                                                     first.prior_sigma_m), 0, None, 0])
+                                                     first.prior_sigma_m), 0, None, 0, None])
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well[0].commit(self._flight_log_likelihood, self._flight_strides)
         well[1] += int(risers)
         well[2] = self._flight_end_xy
         well[3] = self._flight_direction
+        well[4] = end_height_m
         self._flight_log_likelihood = None
 
     def _stairwell_ending_near(self, xy: Optional[tuple]) -> Optional[int]:
-        """Return the stairwell whose last flight, the other way, ended near (x, y)."""
+        """Return the stairwell whose last flight, the other way, ended near (x, y) and height."""
         if xy is None or not self._flight_direction:
             return None
-        for k, (_, _, end_xy, direction) in enumerate(self._wells):
+        start_m = self._flight_start_height_m
+        for k, (_, _, end_xy, direction, end_m) in enumerate(self._wells):
             if end_xy is not None and direction == -self._flight_direction and math.hypot(
-                    xy[0] - end_xy[0], xy[1] - end_xy[1]) <= SAME_STAIRS_M:
+                    xy[0] - end_xy[0], xy[1] - end_xy[1]) <= SAME_STAIRS_M and (
+                    start_m is None or end_m is None or abs(start_m - end_m) <= SAME_LEVEL_M):
                 return k
         return None
 
@@ -418,7 +435,7 @@ class StairwellRiserHeights:
     def climbed_m(self) -> float:
         """Return the height of the finished flights, sum_w K_w N_w, m."""
         total = 0.0
-        for k, (estimator, risers, _, _) in enumerate(self._wells):
+        for k, (estimator, risers, *_) in enumerate(self._wells):
             more = self._open_flight() if k == self._index else None
             total += estimator.estimate_with(more) * risers
         return total
@@ -433,7 +450,7 @@ class StairwellRiserHeights:
         estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
                                          self._template.prior_sigma_m)
         estimator.resume(estimate_m, strides)
-        self._wells = [[estimator, 0, None, 0]]
+        self._wells = [[estimator, 0, None, 0, None]]
         self._index = 0
 
     def set_prior(self, prior_m: float, sigma_m: float):
