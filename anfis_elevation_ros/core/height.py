@@ -23,6 +23,7 @@ classifier (ANFIS or forest, ``core/classifier.py``) maps them to one number y;
 steps of height K (eq. 14), and ``core/floors.py`` turns the accumulated height into a floor
 (the building's floors, or uniform storeys; changed only when the height settles on one).
 :class:`ElevationTracker` holds the height between cycles and runs the three for each cycle.
+The per-cycle equations are in ``core/stair_steps.py`` (re-exported here).
 
 Riser height K (our addition; the method takes K as known). Nobody at an incident knows it, so
 K is estimated from the stair strides themselves (``core/riser_height.py``, one estimate per
@@ -46,8 +47,6 @@ run is bridged with :func:`bridged_step_count` (each lost cycle climbed as many 
 cycle before it). Otherwise (the run is at the start or end of a flight, or on level ground)
 nothing is added; at most one cycle's steps per flight end can be lost this way.
 
-Rounding: :func:`round_half_away` (``core/floors.py``), halves away from zero.
-
 Public API: :class:`ElevationParams`, :class:`CycleEstimate`, :class:`ElevationTracker`,
 :func:`stair_mode`, :func:`quantised_step_count`, :func:`quantised_height_step`,
 :func:`flight_riser_count`, :func:`bridged_step_count`, :func:`floor_index`,
@@ -68,11 +67,13 @@ import numpy as np
 
 from .classifier import as_classifier
 from .errors import InputError
-from .floors import _int_result, floor_index, floor_map_for, FloorSettler, round_half_away
+from .floors import floor_index, floor_map_for, FloorSettler, round_half_away
 from .gait import FEATURE_NAMES
 from .riser_height import known_riser_height_m, LevelSlope, MAX_RISERS, PRIOR_SIGMA_M
 from .riser_height import riser_count_bounds
 from .riser_height import StairwellRiserHeights
+from .stair_steps import bridged_step_count, flight_riser_count, MODE_DOWN, MODE_LEVEL, MODE_UP
+from .stair_steps import quantised_height_step, quantised_step_count, stair_mode
 
 __all__ = ['bridged_step_count', 'CycleEstimate', 'ElevationParams', 'ElevationTracker',
            'FEATURE_NAMES', 'flight_riser_count', 'floor_index', 'HEIGHT_CHANGE',
@@ -85,151 +86,8 @@ HEIGHT_CHANGE = FEATURE_NAMES.index('height_change_m')
 MAX_CYCLE_HEIGHT_CHANGE_M = 10.0
 """A gait cycle climbing more than this (m) comes from a diverged INS: treated as invalid."""
 
-MODE_UP, MODE_LEVEL, MODE_DOWN = 1, 0, -1
-"""Values of the stair mode C of eq. 13."""
-
 DEFAULT_MODE_THRESHOLD = 0.5
 """sigma_th for a model that stores none: the midpoint of the training targets -1 / 0 / +1."""
-
-
-def stair_mode(y, threshold: float):
-    """
-    Stair mode of a gait cycle from the ANFIS output, eq. 13.
-
-    C = +1 if y > sigma_th;  C = -1 if y < -sigma_th;  C = 0 otherwise (|y| <= sigma_th)
-
-    Parameters
-    ----------
-    y : float or array
-        ANFIS output(s), dimensionless.
-    threshold : float >= 0
-        The mode threshold sigma_th.
-
-    Returns
-    -------
-    int (scalar y) or int64 array of y's shape, values in {-1, 0, +1}.
-
-    Raises
-    ------
-    ValueError : y holds NaN, or threshold is negative or not finite.
-
-    """
-    if not math.isfinite(threshold) or threshold < 0:
-        raise ValueError(f'threshold must be a finite number >= 0, got {threshold!r}')
-    y_array = np.asarray(y, dtype=float)
-    if np.isnan(y_array).any():
-        raise ValueError('stair_mode got NaN in y; the ANFIS output must be a number')
-    mode = np.where(y_array > threshold, MODE_UP, np.where(y_array < -threshold, MODE_DOWN,
-                                                           MODE_LEVEL))
-    return _int_result(mode, np.ndim(y) == 0)
-
-
-def quantised_step_count(mode, dh_m, step_height_m: float):
-    """
-    Signed whole number of stair steps climbed in a cycle, the integer part of eq. 14.
-
-    n = C * max(1, round(|dh| / K))      (n = 0 when C = 0; round halves away from zero)
-
-    Parameters
-    ----------
-    mode : int or array of int in {-1, 0, +1}
-        C from :func:`stair_mode`.
-    dh_m : float or array (broadcasting with mode)
-        The cycle's raw height change, m.
-    step_height_m : float > 0
-        Stair step height K, m.
-
-    Returns
-    -------
-    int (scalar inputs) or int64 array.
-
-    """
-    steps = np.maximum(1.0, round_half_away(np.abs(np.asarray(dh_m, dtype=float)) / step_height_m))
-    return _int_result(np.asarray(mode) * steps, np.ndim(mode) == 0 and np.ndim(dh_m) == 0)
-
-
-def bridged_step_count(mode_before: int, steps_before: int, mode_after: int,
-                       lost_cycles: int) -> int:
-    """
-    Signed stair steps credited to a run of invalid cycles between two valid ones.
-
-    n = lost_cycles * steps_before   if mode_before = mode_after != 0, else 0
-
-    Parameters
-    ----------
-    mode_before, mode_after : int in {-1, 0, +1}
-        Stair modes of the valid cycles before and after the run.
-    steps_before : int
-        Signed steps of the valid cycle before the run (from :func:`quantised_step_count`).
-    lost_cycles : int
-        Invalid cycles in the run.
-
-    """
-    if mode_before != mode_after or mode_before == MODE_LEVEL:
-        return 0
-    return int(lost_cycles * steps_before)
-
-
-def quantised_height_step(mode, dh_m, step_height_m: float):
-    """
-    Height change of a cycle quantised to whole stair steps, eq. 14.
-
-    h_i - h_i-1 = K * C_i * max(1, round(|dh_i| / K))      (0 when C_i = 0)
-
-    A cycle classified as stairs climbs at least one step even when its raw dh is small; the sign
-    comes from the mode, the number of steps from the raw height change.
-
-    Parameters
-    ----------
-    mode : int or array of int in {-1, 0, +1}
-        Stair mode C_i from :func:`stair_mode`.
-    dh_m : float or array (broadcasting with mode)
-        Raw height change of the cycle, m.
-    step_height_m : float > 0
-        Stair step height K, m.
-
-    Returns
-    -------
-    float (scalar inputs) or float array, m.
-
-    """
-    steps = quantised_step_count(mode, dh_m, step_height_m)
-    return step_height_m * steps if np.ndim(steps) else float(step_height_m * steps)
-
-
-def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float, low=None,
-                       high=None) -> int:
-    """
-    Signed risers of a whole flight with one riser height, eq. 14 summed over its strides.
-
-    N = C * sum_i w_i clip(max(1, round(|dh_i| / K)), n_low_i, n_high_i);   h_end - h_start = K N
-
-    The bounds are the riser counts the stride's horizontal length allows
-    (``riser_height.riser_count_bounds``, our addition): a stride whose height is off by half a
-    riser (an INS glitch after a landing turn) is still counted as its length says.
-
-    Parameters
-    ----------
-    mode : int in {-1, +1}
-        The flight's stair mode C.
-    abs_dh_m : (S,) array
-        |dh_i| of its strides, m.
-    cycles : (S,) array of int
-        w_i: 1, plus the lost cycles bridged after stride i (they climbed as stride i).
-    step_height_m : float > 0
-        K, m.
-    low, high : (S,) arrays of int, or None
-        n_low_i, n_high_i; None: no bound.
-
-    Returns
-    -------
-    int.
-
-    """
-    steps = quantised_step_count(1, np.asarray(abs_dh_m, dtype=float), step_height_m)
-    if low is not None:
-        steps = np.clip(steps, np.asarray(low), np.asarray(high))
-    return int(mode * np.dot(steps, np.asarray(cycles, dtype=np.int64)))
 
 
 def _check_real(name: str, value, low: Optional[float] = None, high: Optional[float] = None):
