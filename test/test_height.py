@@ -380,6 +380,39 @@ def test_the_building_files_riser_height_is_used_exactly():
     assert (level.floor, level.floor_certain) == (1, True)
 
 
+def test_a_flights_first_stride_called_level_is_recovered_when_the_flight_shows():
+    """The classifier calls the first stride of a flight down level: its risers still count."""
+    tree = {'format': 'anfis_elevation_ros/building', 'version': 1, 'step_height_m': 0.17,
+            'floors': [{'index': 0, 'elevation_m': 0.0}, {'index': 1, 'elevation_m': 3.06}]}
+    walker = _walker(ElevationParams(), building=building_from_dict(tree))
+    for _ in range(3):
+        walker.stride(0)
+    walker.model.outputs.append(0.0)                # the model says level ...
+    walker.x_m += 2 * TREAD_M
+    walker.true_height_m -= 0.34                    # ... but the stride went down two risers
+    missed = walker.tracker.update(99, _features(-0.342), walker.x_m, 0.0)
+    assert missed.height_m == 0.0
+    flight = walker.flight(-1, [2] * 8, 0.17)
+    assert flight[0].height_m == pytest.approx(-0.68, abs=1e-9)      # both strides counted
+    assert flight[-1].height_m == pytest.approx(walker.true_height_m, abs=1e-9)
+    assert walker.tracker.recovered_strides == 1
+    # A level stride that reads a few centimetres (noise, a kerb) before a flight is level.
+    before = walker.tracker.height_m
+    walker.stride(0)
+    walker.model.outputs.append(0.0)
+    walker.x_m += 1.4
+    walker.tracker.update(199, _features(0.04), walker.x_m, 0.0)     # 0.24 K: level
+    walker.flight(1, [2] * 2, 0.17)
+    assert walker.tracker.height_m == pytest.approx(before + 0.68, abs=1e-9)
+    # Nor is a landing turn that reads 0.3 m (an INS glitch), the next flight going on back.
+    walker.model.outputs.append(0.0)
+    walker.tracker.update(299, _features(0.3), walker.x_m, 0.7)
+    walker.model.outputs.append(1.0)
+    walker.tracker.update(300, _features(0.34), walker.x_m - 0.56, 0.7)
+    assert walker.tracker.height_m == pytest.approx(before + 1.02, abs=1e-9)
+    assert walker.tracker.recovered_strides == 1
+
+
 def test_the_slope_learnt_on_level_strides_corrects_stair_strides():
     """A misaligned IMU: +20 mm per metre walked; strides up look taller, down shorter."""
     walker = _walker(ElevationParams(step_height_m=0.17))

@@ -86,6 +86,12 @@ HEIGHT_CHANGE = FEATURE_NAMES.index('height_change_m')
 MAX_CYCLE_HEIGHT_CHANGE_M = 10.0
 """A gait cycle climbing more than this (m) comes from a diverged INS: treated as invalid."""
 
+MISSED_STRIDE_RISERS = 0.5
+"""A level cycle just before a flight that climbed this many risers (its way) was its first."""
+
+MISSED_STRIDE_MAX_TURN_DEG = 45.0
+"""... if it went the flight's way: a flight is straight, a landing turn is not its stride."""
+
 DEFAULT_MODE_THRESHOLD = 0.5
 """sigma_th for a model that stores none: the midpoint of the training targets -1 / 0 / +1."""
 
@@ -256,6 +262,7 @@ class ElevationTracker:
         self._last_mode = MODE_LEVEL
         self._last_abs_dh_m = 0.0
         self._last_xy = None
+        self._last_level = None     # (dh_m, length_m, start_xy, end_xy) of a level cycle before
         self._lost = 0
         self.risers = StairwellRiserHeights(params.step_height_m, known_riser_height_m(
             self.building), params.step_height_sigma_m)
@@ -264,6 +271,7 @@ class ElevationTracker:
                                    self._base_height_m)
         self.bridged_cycles = 0
         self.unbridged_cycles = 0
+        self.recovered_strides = 0
         self.implausible_cycles = 0
 
     def resume_flight(self, last_mode: int, last_abs_dh_m: float):
@@ -391,6 +399,7 @@ class ElevationTracker:
                 from None
         if not valid:
             self._lost += 1
+            self._last_level = None
             self.floors.update(self.height_m, None)
             return self._estimate(stamp_ns, MODE_LEVEL, x_m, y_m, float('nan'))
         if not (math.isfinite(x_m) and math.isfinite(y_m)):
@@ -415,27 +424,61 @@ class ElevationTracker:
             x_m - self._last_xy[0], y_m - self._last_xy[1])
         start_xy, self._last_xy = self._last_xy, (x_m, y_m)
         bridged = self._bridge(mode)
+        missed = self._missed_first_stride(mode, (x_m, y_m))
         if mode != self._flight_mode:
             self._end_flight(mode)
             if mode != MODE_LEVEL:
-                self.risers.start_flight(start_xy, mode, self.height_m)
+                self.risers.start_flight(missed[2] if missed else start_xy, mode, self.height_m)
+                if missed:
+                    self._add_stair_stride(*missed[:2], missed[3])
+                    self.recovered_strides += 1
         if mode == MODE_LEVEL:
             self.slope.add_level(dh_m, length_m)
+            self._last_level = (dh_m, length_m, start_xy, (x_m, y_m))
         else:
-            bounds = riser_count_bounds(length_m) if self.risers.estimating else \
-                riser_count_bounds(None)    # K known: eq. 14 as the patent has it
-            if bounds[1] <= MAX_RISERS:     # a length that fits stairs: correct the slope
-                dh_m = self.slope.corrected(dh_m, length_m)
-            self.risers.add(dh_m, length_m, (x_m, y_m))
-            self._flight_abs_dh_m.append(abs(dh_m))
-            self._flight_cycles.append(1)
-            self._flight_bounds.append(bounds)
-            self._last_abs_dh_m = abs(dh_m)
+            self._add_stair_stride(dh_m, length_m, (x_m, y_m))
+            self._last_level = None
         self._last_mode = mode
         self.floors.update(self.height_m, mode)
         if self.floors.certain and self.building is not None:
             self._snap_to_floor()
         return self._estimate(stamp_ns, mode, x_m, y_m, output, bridged)
+
+    def _missed_first_stride(self, mode: int, xy: tuple) -> Optional[tuple]:
+        """
+        Return the level cycle just before a new flight if it was the flight's first stride.
+
+        The classifier can call a flight's first stride level (a new wearer, a stride half on
+        the level); the stride itself says otherwise when it climbed C dh' >= 0.5 K (dh' with
+        the slope removed, :data:`MISSED_STRIDE_RISERS`) in the direction the flight goes on,
+        angle(p_1 - p_0, p_2 - p_1) <= :data:`MISSED_STRIDE_MAX_TURN_DEG`. A level stride
+        reads millimetres, but one turning on a landing can read decimetres (consumer IMU).
+        """
+        if mode == MODE_LEVEL or self._flight_mode != MODE_LEVEL or self._last_level is None:
+            return None
+        dh_m, length_m, start_xy, end_xy = self._last_level
+        if start_xy is None or length_m is None:
+            return None
+        risen_m = mode * self.slope.corrected(dh_m, length_m)
+        before = np.subtract(end_xy, start_xy)
+        after = np.subtract(xy, end_xy)
+        norms = float(np.linalg.norm(before) * np.linalg.norm(after))
+        straight = norms > 0.0 and float(np.dot(before, after)) >= norms * math.cos(
+            math.radians(MISSED_STRIDE_MAX_TURN_DEG))
+        climbed = risen_m >= MISSED_STRIDE_RISERS * self.step_height_m
+        return self._last_level if straight and climbed else None
+
+    def _add_stair_stride(self, dh_m: float, length_m: Optional[float], end_xy: tuple):
+        """Add a stair stride to the open flight and its stairwell's riser estimate."""
+        bounds = riser_count_bounds(length_m) if self.risers.estimating else \
+            riser_count_bounds(None)        # K known: eq. 14 as the patent has it
+        if bounds[1] <= MAX_RISERS:         # a length that fits stairs: correct the slope
+            dh_m = self.slope.corrected(dh_m, length_m)
+        self.risers.add(dh_m, length_m, end_xy)
+        self._flight_abs_dh_m.append(abs(dh_m))
+        self._flight_cycles.append(1)
+        self._flight_bounds.append(bounds)
+        self._last_abs_dh_m = abs(dh_m)
 
     def _snap_to_floor(self):
         """Settled on a floor of the building file: the height is that floor's elevation."""

@@ -415,6 +415,7 @@ class ClassifierNode(PersistsState, Node):
         values = {'classified': self._classified, 'invalid_cycles': self._invalid,
                   'bridged_cycles': tracker.bridged_cycles,
                   'unbridged_cycles': tracker.unbridged_cycles,
+                  'recovered_strides': tracker.recovered_strides,
                   'implausible_cycles': tracker.implausible_cycles, 'missed_cycles': self._missed,
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
