@@ -121,6 +121,7 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
     from geometry_msgs.msg import PointStamped
     from nav_msgs.msg import Odometry
+    from rclpy.serialization import serialize_message
     from std_msgs.msg import Bool, Int32, Int8
 
     from anfis_elevation_ros.nodes.qos import DIAGNOSTICS_QOS, LATEST_QOS
@@ -174,6 +175,10 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     pubs['/ff8']['elevation'].publish(bad)
     assert wait_for(lambda: sum(centre.incident.snapshot()['rejected'].values()) == 1, 10.0)
     assert responder('/ff7')['x_m'] == 1.5 and responder('/ff7')['floor'] == 1
+    # foot_odom is decoded from its bytes in the node: bytes that are no Odometry are counted.
+    pubs['/ff8']['foot_odom'].publish(serialize_message(odom)[:100])
+    assert wait_for(lambda: centre.rejected == 1, 10.0), centre.rejected
+    assert responder('/ff7')['x_m'] == 1.5
 
 
 @pytest.mark.parametrize('args, message', [
