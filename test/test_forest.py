@@ -19,7 +19,8 @@ import subprocess
 import sys
 
 from anfis_elevation_ros.core.anfis import Anfis, grid_partition
-from anfis_elevation_ros.core.classifier import AnfisClassifier, load_classifier
+from anfis_elevation_ros.core.classifier import AnfisClassifier, backend_name, load_classifier
+from anfis_elevation_ros.core.classifier import warm_up
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.forest import Forest
 from anfis_elevation_ros.core.gait import feature_index, N_FEATURES, PATENT_FEATURE_NAMES
@@ -125,6 +126,26 @@ def test_load_classifier_picks_the_backend_by_format(tmp_path):
     other.write_text(json.dumps({'format': 'something.else', 'version': 1}))
     with pytest.raises(InputError, match='not a stair-classifier model'):
         load_classifier(other)
+
+
+def test_warm_up_classifies_one_cycle_of_every_feature(trained):
+    """A node warms its classifier at start (the forest's numba code): one whole feature row."""
+    calls = []
+
+    class Recording:
+        def predict(self, features):
+            calls.append(np.array(features))
+            return np.zeros(len(features))
+
+    assert warm_up(Recording()) >= 0.0
+    assert len(calls) == 1 and calls[0].shape == (1, N_FEATURES)
+    _, forest = trained
+    assert warm_up(forest) >= 0.0
+    assert backend_name(forest) == 'forest'
+    universe = np.array([[-1.0, 1.0]] * len(PATENT_FEATURE_NAMES))
+    anfis = Anfis.from_params(grid_partition(universe, 2, 'triangle'),
+                              np.zeros((2 ** len(PATENT_FEATURE_NAMES), 6)), universe)
+    assert backend_name(AnfisClassifier(anfis)) == 'anfis'
 
 
 def test_inference_does_not_import_scikit_learn(trained, tmp_path):

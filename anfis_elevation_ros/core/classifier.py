@@ -28,6 +28,7 @@ name:
 elevation tracker, the classifier node, ``replay`` and ``train`` all use it.
 """
 
+import time
 from typing import Optional, Protocol
 
 import numpy as np
@@ -107,6 +108,24 @@ def as_classifier(model):
     return AnfisClassifier(model) if isinstance(model, Anfis) else model
 
 
+def backend_name(classifier) -> str:
+    """Return 'forest' or 'anfis': the backend of a loaded classifier."""
+    return 'forest' if isinstance(classifier, Forest) else 'anfis'
+
+
+def warm_up(classifier) -> float:
+    """
+    Classify one cycle of zeros and throw the answer away; return the seconds it took.
+
+    The forest's tree walk is numba code: its first call compiles it (about 10 s on a new
+    machine) or loads it from numba's cache (about 1 s). A node calls this at start, so that
+    its first gait cycle does not wait for that.
+    """
+    start = time.monotonic()
+    classifier.predict(np.zeros((1, N_FEATURES)))
+    return time.monotonic() - start
+
+
 def load_classifier(path):
     """
     Read a stair-classifier model file; the backend follows its ``format`` key.
@@ -130,4 +149,5 @@ def load_classifier(path):
                      f'{sorted(BACKENDS.values())}); train one with anfis_elevation_ros train')
 
 
-__all__ = ['AnfisClassifier', 'as_classifier', 'BACKENDS', 'load_classifier', 'StairClassifier']
+__all__ = ['AnfisClassifier', 'as_classifier', 'backend_name', 'BACKENDS', 'load_classifier',
+           'StairClassifier', 'warm_up']

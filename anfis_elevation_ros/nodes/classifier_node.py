@@ -96,6 +96,7 @@ from .stair_fix_msg import request_to_msg
 from .stamps import ns_to_stamp
 from .state_writer import PersistsState
 from ..core.building import load_building_file
+from ..core.classifier import backend_name, warm_up
 from ..core.errors import InputError
 from ..core.height import ElevationTracker
 from ..core.outage import FloorDoubt, LEVEL_STRETCH_CYCLES, MAX_OUTAGE_CYCLES
@@ -129,6 +130,10 @@ class ClassifierNode(PersistsState, Node):
         super().__init__(CLASSIFIER_NODE, **kwargs)
         values = declare_node_parameters(self, CLASSIFIER_NODE)
         self._model = load_model(values['model_path'])
+        compile_s = warm_up(self._model)
+        if compile_s > 1.0:
+            self.get_logger().info(f'stair classifier compiled in {compile_s:.0f} s (cached from '
+                                   'now on)')
         self._building = load_building_file(values['building_file'])
         if self._building is not None:
             self.get_logger().info(f'building {self._building.name or ""} loaded from '
@@ -151,10 +156,11 @@ class ClassifierNode(PersistsState, Node):
         self._resume_refusals = int(state is None and self._state_path.exists())
         self._resume_decision = reason if state is None else \
             'saved state found; the first gait cycle decides'
+        threshold_from = 'the model' if elevation.mode_threshold < 0.0 else \
+            'elevation.mode_threshold'
         self.get_logger().info(
-            f"ANFIS model loaded from {model_file(values['model_path'])}; sigma_th "
-            f'{self._tracker.mode_threshold:g} ('
-            f"{'the model' if elevation.mode_threshold < 0.0 else 'elevation.mode_threshold'})")
+            f"{backend_name(self._model)} model loaded from {model_file(values['model_path'])}; "
+            f'sigma_th {self._tracker.mode_threshold:g} ({threshold_from})')
         self._resumed = False
         self._last_stamp_ns = -1
         self._last_index = 0
