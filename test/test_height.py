@@ -410,6 +410,13 @@ def test_a_flights_first_stride_called_level_is_recovered_when_the_flight_shows(
     walker.model.outputs.append(1.0)
     walker.tracker.update(300, _features(0.34), walker.x_m - 0.56, 0.7)
     assert walker.tracker.height_m == pytest.approx(before + 1.02, abs=1e-9)
+    # Nor a straight one that read 0.15 m where the flight's strides read 0.34 m (a glitch).
+    walker.stride(0)
+    walker.model.outputs.append(0.0)
+    walker.tracker.update(399, _features(0.15), walker.x_m - 1.4, 0.7)
+    walker.model.outputs.append(1.0)
+    walker.tracker.update(400, _features(0.34), walker.x_m - 1.96, 0.7)
+    assert walker.tracker.height_m == pytest.approx(before + 1.36, abs=1e-9)
     assert walker.tracker.recovered_strides == 1
 
 

@@ -92,6 +92,9 @@ MISSED_STRIDE_RISERS = 0.5
 MISSED_STRIDE_MAX_TURN_DEG = 45.0
 """... if it went the flight's way: a flight is straight, a landing turn is not its stride."""
 
+MISSED_STRIDE_LIKE = (0.75, 1.25)
+"""... and climbed like the flight's next stride (ratio): not a glitch after a landing turn."""
+
 DEFAULT_MODE_THRESHOLD = 0.5
 """sigma_th for a model that stores none: the midpoint of the training targets -1 / 0 / +1."""
 
@@ -424,7 +427,7 @@ class ElevationTracker:
             x_m - self._last_xy[0], y_m - self._last_xy[1])
         start_xy, self._last_xy = self._last_xy, (x_m, y_m)
         bridged = self._bridge(mode)
-        missed = self._missed_first_stride(mode, (x_m, y_m))
+        missed = self._missed_first_stride(mode, (x_m, y_m), self.slope.corrected(dh_m, length_m))
         if mode != self._flight_mode:
             self._end_flight(mode)
             if mode != MODE_LEVEL:
@@ -444,15 +447,17 @@ class ElevationTracker:
             self._snap_to_floor()
         return self._estimate(stamp_ns, mode, x_m, y_m, output, bridged)
 
-    def _missed_first_stride(self, mode: int, xy: tuple) -> Optional[tuple]:
+    def _missed_first_stride(self, mode: int, xy: tuple, next_dh_m: float) -> Optional[tuple]:
         """
         Return the level cycle just before a new flight if it was the flight's first stride.
 
         The classifier can call a flight's first stride level (a new wearer, a stride half on
         the level); the stride itself says otherwise when it climbed C dh' >= 0.5 K (dh' with
         the slope removed, :data:`MISSED_STRIDE_RISERS`) in the direction the flight goes on,
-        angle(p_1 - p_0, p_2 - p_1) <= :data:`MISSED_STRIDE_MAX_TURN_DEG`. A level stride
-        reads millimetres, but one turning on a landing can read decimetres (consumer IMU).
+        angle(p_1 - p_0, p_2 - p_1) <= :data:`MISSED_STRIDE_MAX_TURN_DEG`, and about as much as
+        the flight's next stride, 0.75 <= dh'_0 / dh'_1 <= 1.25 (:data:`MISSED_STRIDE_LIKE`). A
+        level stride reads millimetres, but one turning on a landing can read decimetres
+        (consumer IMU).
         """
         if mode == MODE_LEVEL or self._flight_mode != MODE_LEVEL or self._last_level is None:
             return None
@@ -466,7 +471,9 @@ class ElevationTracker:
         straight = norms > 0.0 and float(np.dot(before, after)) >= norms * math.cos(
             math.radians(MISSED_STRIDE_MAX_TURN_DEG))
         climbed = risen_m >= MISSED_STRIDE_RISERS * self.step_height_m
-        return self._last_level if straight and climbed else None
+        alike = MISSED_STRIDE_LIKE[0] * abs(next_dh_m) <= risen_m <= \
+            MISSED_STRIDE_LIKE[1] * abs(next_dh_m)
+        return self._last_level if straight and climbed and alike else None
 
     def _add_stair_stride(self, dh_m: float, length_m: Optional[float], end_xy: tuple):
         """Add a stair stride to the open flight and its stairwell's riser estimate."""

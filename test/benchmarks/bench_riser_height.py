@@ -41,7 +41,7 @@ at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
 
 Measured 2026-12-03 (README, "Riser height and floors nobody measured"): everything met but
 held-out random walks 16 and 18 (tactical, 0.17 and 0.16 m) and 15, 16, 17, 19 (consumer,
-0.48, 0.61, 1.7, 0.32 m).
+0.48, 0.61, 1.55, 0.32 m).
 
 The truth height of a cycle is that of the last true stride ending up to 0.2 s after it.
 With ``--out DIR`` it writes ``riser_convergence.png``: the estimate of K over the first
