@@ -16,8 +16,9 @@
 Benchmark of the command centre over DDS: N fake responders into the ``command-centre`` process.
 
 Run from the repository root: ``python test/benchmarks/bench_command_centre_dds.py [--minutes
-2] [--responders 50]`` (a script, not a test). This process publishes, for each responder
-``/bK`` as ``run --namespace /bK`` does, ``foot_odom`` at 10 Hz and, once a second,
+2] [--responders 50] [--track-hz 10]`` (a script, not a test). This process publishes, for each
+responder ``/bK`` as ``run --namespace /bK`` does, ``foot_odom`` at ``--track-hz`` (the IMU
+node's ``track_rate_hz``, 10 Hz by default) and, once a second,
 ``elevation``, ``floor``, ``floor_certain``, ``stair_mode`` and a ``/diagnostics`` array; the
 ``command-centre`` subprocess discovers them, subscribes and feeds its Incident, and this
 process reads its push stream (``/api/events``). After a warm-up it prints:
@@ -45,7 +46,7 @@ import urllib.request
 
 import numpy as np
 
-POSE_HZ = 10
+TICK_HZ = 10                     # the publisher's timer: poses at up to this rate
 WARM_UP_S = 30.0
 TICKS_PER_S = os.sysconf('SC_CLK_TCK')
 
@@ -67,7 +68,7 @@ def proc_rss_mb(pid: int) -> float:
 class FakeResponders:
     """One node publishing the topics of N responders at their real rates."""
 
-    def __init__(self, node, responders: int):
+    def __init__(self, node, responders: int, track_hz: float):
         from diagnostic_msgs.msg import DiagnosticArray
         from geometry_msgs.msg import PointStamped
         from nav_msgs.msg import Odometry
@@ -83,12 +84,13 @@ class FakeResponders:
         self.diagnostics = node.create_publisher(DiagnosticArray, '/diagnostics',
                                                  DIAGNOSTICS_QOS)
         self.step = 0
-        node.create_timer(1.0 / POSE_HZ, self.publish)
+        self.pose_every = round(TICK_HZ / track_hz)
+        node.create_timer(1.0 / TICK_HZ, self.publish)
 
     def publish(self):
         from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 
-        t = self.step / POSE_HZ
+        t = self.step / TICK_HZ
         for k, ns in enumerate(self.namespaces):
             angle = 0.24 * t + k                         # 1.2 m/s on a 5 m circle
             pubs = self.pubs[ns]
@@ -99,8 +101,9 @@ class FakeResponders:
             odom.pose.pose.position.y = 5.0 * math.sin(angle)
             odom.pose.pose.orientation.w = 1.0
             odom.pose.covariance[0] = odom.pose.covariance[7] = 0.1
-            pubs['foot_odom'].publish(odom)
-            if self.step % POSE_HZ == k % POSE_HZ:         # once a second, spread out
+            if (self.step + k) % self.pose_every == 0:
+                pubs['foot_odom'].publish(odom)
+            if self.step % TICK_HZ == k % TICK_HZ:         # once a second, spread out
                 point = self.types['elevation']()
                 point.header.stamp = odom.header.stamp
                 point.point.x = odom.pose.pose.position.x
@@ -147,6 +150,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--minutes', type=float, default=2.0, help='length of the measurement')
     parser.add_argument('--responders', type=int, default=50)
+    parser.add_argument('--track-hz', type=float, default=10.0, choices=(10.0, 5.0, 2.0, 1.0),
+                        help="rate of each responder's foot_odom (track_rate_hz)")
     args = parser.parse_args()
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 
@@ -161,7 +166,7 @@ def main():
     centre.stdout.readline()
     rclpy.init()
     node = rclpy.create_node('fake_responders')
-    FakeResponders(node, args.responders)
+    FakeResponders(node, args.responders, args.track_hz)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     threading.Thread(target=executor.spin, daemon=True).start()
@@ -175,7 +180,8 @@ def main():
         push.recording = False
         latencies = np.array(push.latencies)
         state = json.load(urllib.request.urlopen(url + 'api/state', timeout=30))
-        print(f'{args.responders} responders over DDS, {args.minutes:g} min after a '
+        print(f'{args.responders} responders over DDS, foot_odom at {args.track_hz:g} Hz, '
+              f'{args.minutes:g} min after a '
               f'{WARM_UP_S:g} s warm-up; {len(state["responders"])} on the map')
         print(f'command-centre CPU {100 * (cpu1 - cpu0) / (wall1 - wall0):.1f} % of one core; '
               f'RSS {rss0:.1f} -> {rss1:.1f} MB')
