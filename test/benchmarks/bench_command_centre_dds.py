@@ -169,7 +169,8 @@ def main():
     FakeResponders(node, args.responders, args.track_hz)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
-    threading.Thread(target=executor.spin, daemon=True).start()
+    spinning = threading.Thread(target=executor.spin, daemon=True)
+    spinning.start()
     try:
         push = PushLatency(url)
         time.sleep(WARM_UP_S)
@@ -192,6 +193,7 @@ def main():
                   f'(load average {os.getloadavg()[0]:.1f})')
     finally:
         executor.shutdown()
+        spinning.join(timeout=10.0)     # destroying the node under a spinning executor raises
         node.destroy_node()
         rclpy.try_shutdown()
         centre.send_signal(signal.SIGINT)
