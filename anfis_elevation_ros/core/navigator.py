@@ -55,6 +55,8 @@ from .heading_aids import HeadingAider, HeadingAidParams
 from .jit import jit
 from .map_frame import MapAlignment, rotate_error_covariance
 from .strapdown import strapdown_step
+from .stride_gate import initial_state, RELAXED_SIGMA, samples_to_relaxed_stance
+from .stride_gate import stride_gate_update, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .zupt import adaptive_threshold, GaitIntensity, intensity_update, shoe_update, ShoeDetector
 from .zupt import ZuptParams
@@ -86,6 +88,8 @@ class NavigatorParams:
     ----------
     zupt, ekf, gait : parameters of the detector, the filter and the gait segmentation.
     heading : parameters of the heading aids (HDE, ZARU), off by default.
+    stride_gate : parameters of the stance detection from the gait's structure
+        (``core/stride_gate.py``).
     gravity_mps2 : local gravity magnitude.
     rate_hz : nominal IMU rate; 0 estimates it from the first stamps.
     init_stance_s : stance needed before navigation starts.
@@ -104,6 +108,7 @@ class NavigatorParams:
     ekf: EkfParams = field(default_factory=EkfParams)
     gait: GaitParams = field(default_factory=GaitParams)
     heading: HeadingAidParams = field(default_factory=HeadingAidParams)
+    stride_gate: StrideGateParams = field(default_factory=StrideGateParams)
     gravity_mps2: float = GRAVITY_MPS2
     rate_hz: float = 0.0
     init_stance_s: float = 0.1
@@ -172,16 +177,19 @@ def attitude_at_rest(acc_mean_b: np.ndarray, yaw_rad: float) -> np.ndarray:
 @jit
 def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial, prev_sample,
                     C_nb_out, counts, scalars, shoe_samples, shoe_sums, shoe_count, shoe_config,
-                    peaks, intensity_state, intensity_counts) -> int:
+                    peaks, intensity_state, intensity_counts, gate_state, gate_config) -> int:
     """
     One IMU sample through S1-S3 (after start-up): mechanisation, detector, EKF.
 
-    Updates the arrays in place (layouts: the constants above, ``ShoeDetector`` and
-    ``GaitIntensity``) and writes the corrected attitude to ``C_nb_out``.
+    Updates the arrays in place (layouts: the constants above, ``ShoeDetector``,
+    ``GaitIntensity`` and ``core/stride_gate.py``) and writes the corrected attitude to
+    ``C_nb_out``.
 
     Returns
     -------
-    1 if the sample is a stance sample, plus 2 if samples were missing before it (a gap).
+    1 if the sample is a stance sample (ZUPT), plus 2 if samples were missing before it (a
+    gap), plus 4 if it is a gait stance (it closes or continues a gait cycle's stance, see
+    ``stride_gate_update``).
 
     """
     dt_s = (stamp_ns - counts[PREV_STAMP_NS]) * 1e-9
@@ -209,11 +217,13 @@ def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial,
     if rail > 0.0 and max(abs(gyr_b[0]), abs(gyr_b[1]), abs(gyr_b[2])) >= rail:
         ekf.clipped_gyro_noise(P, scalars[GYR_RAIL_NOISE], dt_s)
 
-    # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still).
-    still = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b, gyr_b) \
-        < scalars[THRESHOLD]
-    counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if still else 0
-    stance = counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES]
+    # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still), then the
+    # gait's structure (one stance between two swings).
+    statistic = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b, gyr_b)
+    counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if statistic < scalars[THRESHOLD] else 0
+    gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD],
+                              counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES])
+    stance = gate & 1 == 1
     if scalars[ADAPTIVE] != 0.0 and intensity_update(
             peaks, intensity_state, intensity_counts,
             math.sqrt(gyr_b[0] ** 2 + gyr_b[1] ** 2 + gyr_b[2] ** 2)):
@@ -232,7 +242,8 @@ def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial,
             vel_n = np.zeros(3)
             P[:, :] = ekf.relevelled_covariance(P, P_initial)
             counts[RELEVEL] = 0
-        dx, P_new, nis = ekf.zupt_correction(P, vel_n, scalars[ZUPT_SIGMA])
+        sigma = gate_config[RELAXED_SIGMA] if gate & 4 == 4 else scalars[ZUPT_SIGMA]
+        dx, P_new, nis = ekf.zupt_correction(P, vel_n, sigma)
         P[:, :] = P_new
         scalars[LAST_NIS] = nis
         q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
@@ -244,7 +255,7 @@ def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial,
     nominal[ACC_BIAS_B] = acc_bias_b
     nominal[GYR_BIAS_B] = gyr_bias_b
     C_nb_out[:, :] = quat_to_dcm(q_nb)
-    return int(stance) + 2 * int(gap)
+    return int(stance) + 2 * int(gap) + 4 * int(gate & 2 == 2)
 
 
 class FootNavigator:
@@ -354,10 +365,13 @@ class FootNavigator:
         self._counts[PREV_STAMP_NS] = stamp_ns
         self._prev_sample = np.concatenate((acc_b, gyr_b))
         d, i = self._detector, self._intensity
+        self._gate_state = initial_state()
+        self._gate_config = p.stride_gate.config(self._status.rate_hz)
         self._kernel_args = (
             self._nominal, self._P, np.eye(ekf.N_STATES), ekf.process_noise(p.ekf, 1.0),
             ekf.initial_covariance(p.ekf), self._prev_sample, self._C_nb, self._counts,
-            self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state, i.counts)
+            self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state, i.counts,
+            self._gate_state, self._gate_config)
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
         self._gait = GaitSegmenter(p.gait, self._status.rate_hz, MountingEstimator(p.gait, C_fb))
         self._gait.update(stamp_ns, True, self._nominal[POS_N].copy(), self._C_nb.copy(),
@@ -452,8 +466,8 @@ class FootNavigator:
         flags = navigation_step(stamp_ns, acc_b, gyr_b, *self._kernel_args)
         stance = flags & 1 == 1
         pos_n = self._nominal[POS_N].copy()
-        # S4, eq. (8)-(12): gait cycles from the corrected track.
-        cycle = self._gait.update(stamp_ns, stance, pos_n, self._C_nb.copy(), acc_b, gyr_b,
+        # S4, eq. (8)-(12): gait cycles from the corrected track, cut at the gait stances.
+        cycle = self._gait.update(stamp_ns, flags & 4 == 4, pos_n, self._C_nb.copy(), acc_b, gyr_b,
                                   self._nominal[VEL_N], flags & 2 == 2)
         if cycle is not None:
             status.cycles += 1
@@ -559,13 +573,17 @@ class FootNavigator:
 
         After c still samples, c < ``min_stance_samples``, the (min_stance_samples - c)-th
         sample from now is the first stance sample if the foot stays still, and it closes the
-        gait cycle. The IMU node wakes its input thread when that sample is due instead of a
-        whole batch period later.
+        gait cycle after a swing; a relaxed stance of the stride gate is due when its minimum
+        is confirmed (``samples_to_relaxed_stance``). The IMU node wakes its input thread when
+        that sample is due instead of a whole batch period later.
         """
         if not self._status.initialised:
             return None
         still, needed = self._counts[STILL_SAMPLES], self._counts[MIN_STANCE_SAMPLES]
-        return int(needed - still) if 0 < still < needed else None
+        relaxed = samples_to_relaxed_stance(self._gate_state, self._gate_config,
+                                            self._scalars[THRESHOLD])
+        due = [n for n in (needed - still if 0 < still < needed else -1, relaxed) if n > 0]
+        return int(min(due)) if due else None
 
     @property
     def heading_rad(self) -> float:

@@ -199,6 +199,35 @@ _DOCS = {
                                _READ_ONLY),
     'zupt.intensity_blocks': ('Blocks whose median peak rate is the gait intensity.', 1, 60,
                               _READ_ONLY),
+    # StrideGateParams
+    'stride_gate.enabled': ('Stance detection from the gait structure: one stance between two '
+                            'swings (core/stride_gate.py).', None, None, _READ_ONLY),
+    'stride_gate.relaxed_factor': ('A relaxed stance (the stillest point after a swing) needs '
+                                   'a SHOE statistic below this multiple of gamma.', 1.0, 100.0,
+                                   _READ_ONLY),
+    'stride_gate.relaxed_floor': ('... or below this (the threshold of the first, gentle '
+                                  'steps after a stand is low).', 0.0, 1e13, _READ_ONLY),
+    'stride_gate.refractory_fraction': ('No relaxed stance before this fraction of the running '
+                                        'stride period since the last cycle.', 0.0, 1.0,
+                                        _READ_ONLY),
+    'stride_gate.swing_level': ('SHOE statistic of a swing (dimensionless; 3e8: a foot turning '
+                                'at about 1.5 rad/s).', 1.0, 1e13,
+                                _READ_ONLY),
+    'stride_gate.swing_arm_s': ('Time above swing_level that makes a swing, s.', 0.0, 1.0,
+                                _READ_ONLY),
+    'stride_gate.confirm_s': ('A minimum of the statistic is a relaxed stance when no lower one '
+                              'follows for this long, s.', 0.0, 0.5, _READ_ONLY),
+    'stride_gate.min_period_s': ('Lower bound of the running stride period, s.', 0.1, 10.0,
+                                 _READ_ONLY),
+    'stride_gate.max_period_s': ('Upper bound of the running stride period, s.', 0.1, 10.0,
+                                 _READ_ONLY),
+    'stride_gate.current_factor': ('The sample that confirms a relaxed stance (and gets its '
+                                   'ZUPT) needs a statistic below this multiple of the bound.',
+                                   1.0, 1e6, _READ_ONLY),
+    'stride_gate.max_break_s': ('A stance this soon after the last stance sample continues it, '
+                                's.', 0.0, 1.0, _READ_ONLY),
+    'stride_gate.relaxed_sigma_mps': ('Standard deviation of the ZUPT at a relaxed stance, '
+                                      'm/s.', 1e-4, 10.0, _READ_ONLY),
     # EkfParams
     'ekf.acc_noise_mps2_sqrt_hz': ('Accelerometer white-noise density, m/s^2/sqrt(Hz).', 1e-6,
                                    10.0, _READ_ONLY),

@@ -1,0 +1,218 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Stance detection from the gait's structure: one stance between two swings.
+
+The SHOE threshold alone (``core/zupt.py``) misses the stances of a brisk walk, where the foot
+is never still enough (statistic minima up to 1.9e8 against gamma 6-8e7 on gdin_hallway), and
+a threshold raised to catch them takes the mid-swing reversal of the foot's rotation (the gyro
+through zero for a few samples) for a stance. The gate uses what every stride has:
+
+- a swing: the statistic above ``swing_level`` for ``swing_arm_s`` arms the gate;
+- one stance after it: the first stance (SHOE, or relaxed below) of an armed gate opens a new
+  gait cycle; a stance within ``max_break_s`` of the last continues it (a stance broken by a
+  few moving samples is one stance); any other stance gets its ZUPT but is no gait stance
+  (no swing since the last: shuffling, turning on the spot);
+- relaxed stance: once ``refractory_fraction`` of the running stride period has passed since
+  the last cycle opened (the mid-swing dip comes earlier), the lowest statistic of the armed
+  gate counts as a stance when it has stayed the lowest for ``confirm_s``, if it is below
+  the bound max(``relaxed_factor`` x gamma, ``relaxed_floor``) and the statistic of that
+  confirming sample below ``current_factor`` x the bound. The ZUPT is applied at the
+  confirming sample, ``confirm_s`` after the minimum: a sample that is itself almost still (a
+  brief dip just before the heel strikes is followed by the impact, not by a stance); nothing
+  waits, so live and replay stay identical.
+
+``stride_gate_update`` is the per-sample step (compiled, called by the navigator's kernel);
+``samples_to_relaxed_stance`` tells the live node when a relaxed stance may be due.
+"""
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from .errors import InputError
+from .jit import jit
+
+# Layout of the gate's state array:
+ARMED, SWING_SAMPLES, RUN_MIN, MIN_AGE, SINCE_ONSET, PERIOD_S, SINCE_STANCE, LAST_GAIT, \
+    ONSETS = range(9)
+N_INTERVALS = 5
+INTERVALS = slice(9, 9 + N_INTERVALS)
+N_STATE = INTERVALS.stop
+# and of its settings array:
+RELAXED_FACTOR, REFRACTORY, SWING_LEVEL, ARM_SAMPLES, CONFIRM_SAMPLES, RATE_HZ, MIN_PERIOD_S, \
+    MAX_PERIOD_S, ENABLED, RELAXED_SIGMA, RELAXED_FLOOR, MAX_BREAK_SAMPLES, CURRENT_FACTOR = \
+    range(13)
+N_CONFIG = 13
+
+
+@dataclass(frozen=True)
+class StrideGateParams:
+    """
+    Parameters of the stride gate.
+
+    Attributes
+    ----------
+    enabled : use the gate (else every SHOE stance is a stance and opens a cycle after a swing).
+    relaxed_factor, relaxed_floor : a relaxed stance needs a statistic below
+        max(relaxed_factor x gamma, relaxed_floor).
+    refractory_fraction : no relaxed stance before this fraction of the stride period.
+    swing_level : statistic of a swing (3e8: a foot turning at 1.5 rad/s), dimensionless.
+    swing_arm_s : time above ``swing_level`` that makes a swing, s.
+    confirm_s : a minimum counts when no lower statistic follows for this long, s.
+    min_period_s, max_period_s : bounds of the running stride period (median of the last 5
+        intervals between cycle starts), s.
+    current_factor : the sample that confirms a relaxed stance (and gets its ZUPT) needs a
+        statistic below this multiple of the bound (not the impact that follows a brief dip).
+    max_break_s : a stance this soon after the last stance sample continues it, s.
+    relaxed_sigma_mps : standard deviation of the ZUPT at a relaxed stance, m/s (the foot
+        there is not quite still).
+
+    """
+
+    enabled: bool = True
+    relaxed_factor: float = 3.0
+    relaxed_floor: float = 1.0e7
+    refractory_fraction: float = 0.7
+    swing_level: float = 3.0e8
+    swing_arm_s: float = 0.05
+    confirm_s: float = 0.05
+    min_period_s: float = 0.5
+    max_period_s: float = 2.0
+    max_break_s: float = 0.15
+    current_factor: float = 5.0
+    relaxed_sigma_mps: float = 0.1
+
+    def __post_init__(self):
+        for name, low, high in (('relaxed_factor', 1.0, 100.0),
+                                ('relaxed_floor', 0.0, 1e13), ('refractory_fraction', 0.0, 1.0),
+                                ('swing_level', 1.0, 1e13), ('swing_arm_s', 0.0, 1.0),
+                                ('confirm_s', 0.0, 0.5), ('min_period_s', 0.1, 10.0),
+                                ('max_period_s', self.min_period_s, 10.0),
+                                ('max_break_s', 0.0, 1.0), ('current_factor', 1.0, 1e6), ('relaxed_sigma_mps', 1e-4, 10.0)):
+            value = getattr(self, name)
+            if not low <= value <= high:
+                raise InputError(f'stride gate {name} = {value} is outside [{low}, {high}]')
+
+    def config(self, rate_hz: float) -> np.ndarray:
+        """Return the settings array of ``stride_gate_update`` at a sample rate."""
+        config = np.zeros(N_CONFIG)
+        config[[RELAXED_FACTOR, REFRACTORY, SWING_LEVEL, RATE_HZ, MIN_PERIOD_S, MAX_PERIOD_S,
+                ENABLED, RELAXED_SIGMA, RELAXED_FLOOR]] = (
+            self.relaxed_factor, self.refractory_fraction, self.swing_level, rate_hz,
+            self.min_period_s, self.max_period_s, float(self.enabled), self.relaxed_sigma_mps,
+            self.relaxed_floor)
+        config[ARM_SAMPLES] = max(1, int(round(self.swing_arm_s * rate_hz)))
+        config[CONFIRM_SAMPLES] = int(round(self.confirm_s * rate_hz))
+        config[MAX_BREAK_SAMPLES] = int(round(self.max_break_s * rate_hz))
+        config[CURRENT_FACTOR] = self.current_factor
+        return config
+
+
+def initial_state() -> np.ndarray:
+    """Return the gate's state at start-up: standing (a stance in progress), not armed."""
+    state = np.zeros(N_STATE)
+    state[RUN_MIN] = math.inf
+    state[PERIOD_S] = 1.0
+    state[LAST_GAIT] = 1.0
+    return state
+
+
+@jit
+def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, gamma: float,
+                       shoe_stance: bool) -> int:
+    """
+    One sample through the gate: 1 for a stance sample, plus 2 for a gait stance, plus 4 relaxed.
+
+    A gait stance is a stance that opens a gait cycle (armed gate) or continues the last stance
+    (within ``max_break_s``); any other stance still gets its ZUPT but does not cut the
+    cycle. A relaxed stance (not a SHOE one)
+    gets its ZUPT with ``relaxed_sigma_mps``.
+
+    Parameters
+    ----------
+    state : (N_STATE,) array
+        The gate's state (``initial_state``), updated in place.
+    config : (N_CONFIG,) array
+        ``StrideGateParams.config``.
+    statistic : float
+        SHOE statistic T_k of the sample (NaN while its window fills).
+    gamma : float
+        The SHOE threshold in force.
+    shoe_stance : bool
+        The SHOE decision: T below gamma for ``min_stance_s``.
+
+    """
+    if config[ENABLED] == 0.0:
+        return 3 if shoe_stance else 0
+    rate_hz = config[RATE_HZ]
+    state[SINCE_ONSET] += 1.0
+    state[SINCE_STANCE] += 1.0
+    if statistic > config[SWING_LEVEL]:
+        state[SWING_SAMPLES] += 1.0
+        if state[SWING_SAMPLES] >= config[ARM_SAMPLES]:
+            state[ARMED] = 1.0
+    stance = shoe_stance
+    relaxed = 0
+    if not stance and state[ARMED] != 0.0 \
+            and state[SINCE_ONSET] >= config[REFRACTORY] * state[PERIOD_S] * rate_hz:
+        if statistic < state[RUN_MIN]:
+            state[RUN_MIN] = statistic
+            state[MIN_AGE] = 0.0
+        else:
+            state[MIN_AGE] += 1.0
+        bound = max(config[RELAXED_FACTOR] * gamma, config[RELAXED_FLOOR])
+        stance = state[MIN_AGE] == config[CONFIRM_SAMPLES] and state[RUN_MIN] < bound \
+            and statistic < config[CURRENT_FACTOR] * bound
+        relaxed = 4 if stance else 0
+    if not stance:
+        return 0
+    state[SWING_SAMPLES] = 0.0
+    continues = state[SINCE_STANCE] <= config[MAX_BREAK_SAMPLES] and state[LAST_GAIT] != 0.0
+    state[SINCE_STANCE] = 0.0
+    if state[ARMED] != 0.0:
+        _open_cycle(state, config)
+    elif not continues:
+        state[LAST_GAIT] = 0.0
+        return 1 + relaxed
+    state[LAST_GAIT] = 1.0
+    return 3 + relaxed
+
+
+@jit
+def samples_to_relaxed_stance(state: np.ndarray, config: np.ndarray, gamma: float) -> int:
+    """Return the samples until the current minimum is confirmed as a stance, or -1 if none."""
+    if config[ENABLED] == 0.0 or state[ARMED] == 0.0 or not state[RUN_MIN] < max(
+            config[RELAXED_FACTOR] * gamma, config[RELAXED_FLOOR]) \
+            or state[MIN_AGE] >= config[CONFIRM_SAMPLES]:
+        return -1
+    return int(config[CONFIRM_SAMPLES] - state[MIN_AGE])
+
+
+@jit
+def _open_cycle(state: np.ndarray, config: np.ndarray):
+    """Open a gait cycle at a stance after a swing; add its interval to the stride period."""
+    if state[ONSETS] > 0.0:
+        n = int(min(state[ONSETS], N_INTERVALS))
+        slot = INTERVALS.start + int(state[ONSETS] - 1.0) % N_INTERVALS
+        state[slot] = state[SINCE_ONSET] / config[RATE_HZ]
+        period = np.median(state[INTERVALS.start:INTERVALS.start + n])
+        state[PERIOD_S] = min(max(period, config[MIN_PERIOD_S]), config[MAX_PERIOD_S])
+    state[ONSETS] += 1.0
+    state[SINCE_ONSET] = 0.0
+    state[ARMED] = 0.0
+    state[RUN_MIN] = math.inf
+    state[MIN_AGE] = 0.0

@@ -1,0 +1,161 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The stride gate: one gait-cycle stance between two swings, relaxed stances, mid-swing dips."""
+
+import math
+
+from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.stride_gate import (
+    initial_state, PERIOD_S, samples_to_relaxed_stance, stride_gate_update, StrideGateParams)
+import numpy as np
+import pytest
+
+RATE_HZ = 100.0
+GAMMA = 1.0e7
+PARAMS = StrideGateParams(relaxed_factor=3.0, relaxed_floor=0.0, refractory_fraction=0.7,
+                          swing_level=1e9, swing_arm_s=0.05, confirm_s=0.05)
+
+
+def run(statistics, shoe_stance, params=PARAMS):
+    """Return the gate's flags for each sample and its final state."""
+    state, config = initial_state(), params.config(RATE_HZ)
+    flags = [stride_gate_update(state, config, t, GAMMA, s)
+             for t, s in zip(statistics, shoe_stance)]
+    return np.array(flags), state
+
+
+def stride(stance, swing_s=0.5, stance_s=0.5, dip=None):
+    """
+    Return one stride at 100 Hz.
+
+    A swing (1e10), with a 3-sample dip to ``dip`` in its middle, then a stance whose
+    statistic falls to 0.9 ``stance`` in its middle and rises again to 1.35 ``stance`` (SHOE
+    stance where below GAMMA).
+    """
+    swing = np.full(int(swing_s * RATE_HZ), 1e10)
+    if dip is not None:
+        middle = len(swing) // 2
+        swing[middle:middle + 3] = dip
+    n = int(stance_s * RATE_HZ)
+    rest = 0.9 * stance * (1.0 + 0.5 * np.abs(np.arange(n) - n // 2) / (n // 2))
+    return np.concatenate((swing, rest))
+
+
+def test_a_shoe_stance_after_a_swing_opens_a_cycle_and_stays_one():
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(1e6) for _ in range(3)])
+    flags, _ = run(statistics, statistics < GAMMA)
+    assert np.all((flags & 1 == 1) == (statistics < GAMMA))
+    # gait stance on every stance sample (no swing inside a stance), ZUPT everywhere stance
+    assert np.all((flags & 2 == 2) == (statistics < GAMMA))
+    assert not np.any(flags & 4)
+    openings = np.flatnonzero(np.diff((flags & 2 == 2).astype(int)) == 1)
+    assert len(openings) == 3
+
+
+def test_a_stance_above_gamma_is_found_at_its_stillest_sample_after_confirmation():
+    # The stance never goes below gamma (2e7 > 1e7) but is below 3 gamma.
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(2e7) for _ in range(4)])
+    flags, state = run(statistics, statistics < GAMMA)
+    relaxed = np.flatnonzero(flags & 4)
+    assert len(relaxed) == 4
+    assert np.all(flags[relaxed] == 1 + 2 + 4)
+    # 5 samples (confirm_s = 0.05 s) after each stance's stillest sample (0.9 x 2e7).
+    minima = np.flatnonzero(statistics == 0.9 * 2e7)
+    assert np.array_equal(relaxed, minima + 5)
+    assert state[PERIOD_S] == pytest.approx(1.0)   # strides of 1 s
+
+
+def test_the_relaxed_stance_is_foreseen_by_a_countdown():
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(2e7) for _ in range(2)])
+    state, config = initial_state(), PARAMS.config(RATE_HZ)
+    foreseen, relaxed = [], []
+    for k, t in enumerate(statistics):
+        if stride_gate_update(state, config, t, GAMMA, t < GAMMA) & 4:
+            relaxed.append(k)
+        foreseen.append(samples_to_relaxed_stance(state, config, GAMMA))
+    assert len(relaxed) == 2
+    for k in relaxed:
+        assert foreseen[k - 5:k] == [5, 4, 3, 2, 1] and foreseen[k] == -1
+
+
+def test_a_stance_far_above_gamma_is_refused():
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(4e7) for _ in range(3)])
+    flags, _ = run(statistics, statistics < GAMMA)
+    assert np.all(flags[:50] == 3)             # the stand before the walk
+    assert not np.any(flags[50:])
+
+
+def test_a_brief_dip_followed_by_the_impact_is_refused():
+    # A 2-sample dip (1.5e7, below 3 gamma) just before the heel strike: 5 samples later, at
+    # the confirming sample, the statistic is the impact's (1e10), not a stance's.
+    swing = np.full(100, 1e10)
+    swing[60:62] = 1.5e7
+    statistics = np.concatenate([np.full(50, 1e5), swing])
+    flags, _ = run(statistics, statistics < GAMMA)
+    assert not np.any(flags[50:])
+
+
+def test_the_relaxed_floor_takes_stances_above_the_relative_bound():
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(4e7) for _ in range(3)])
+    params = StrideGateParams(relaxed_floor=5e7, swing_arm_s=0.05, confirm_s=0.05)
+    flags, _ = run(statistics, statistics < GAMMA, params)
+    assert len(np.flatnonzero(flags & 4)) == 3
+
+
+def test_a_mid_swing_dip_below_the_bound_is_refused_inside_the_refractory_period():
+    # Strides of 1 s; the dip comes 0.25 s after the swing starts, 0.45 s after the last
+    # stance opened: inside 0.7 x the stride period. Its value (1.5e7) is below the stance's.
+    # (The first swing after a stand has no last opening to count from: no dip in it.)
+    strides = [stride(2e7)] + [stride(2e7, dip=1.5e7) for _ in range(4)]
+    statistics = np.concatenate([np.full(50, 1e5)] + strides)
+    flags, _ = run(statistics, statistics < GAMMA)
+    relaxed = np.flatnonzero(flags & 4)
+    minima = np.flatnonzero(statistics == 0.9 * 2e7)
+    assert np.array_equal(relaxed, minima + 5)
+
+
+def test_a_stance_broken_briefly_continues_and_after_a_long_break_opens_no_cycle():
+    statistics = np.concatenate([np.full(50, 1e5), stride(1e6), np.full(80, 1e6)])
+    statistics[-75:-65] = 1e8          # 0.1 s of movement, no swing: the same stance
+    statistics[-50:-20] = 1e8          # 0.3 s of movement, no swing: no new gait cycle
+    flags, _ = run(statistics, statistics < GAMMA)
+    assert np.all(flags[-65:-50] == 3)
+    assert np.all(flags[-20:] == 1)    # ZUPT, not a gait stance
+
+
+def test_disabled_gate_is_the_shoe_decision():
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(2e7, dip=1.5e7) for _ in range(3)])
+    shoe = statistics < GAMMA
+    flags, _ = run(statistics, shoe, StrideGateParams(enabled=False))
+    assert np.array_equal(flags, np.where(shoe, 3, 0))
+
+
+def test_nan_statistic_while_the_window_fills_is_no_stance():
+    flags, _ = run(np.full(20, math.nan), np.zeros(20, bool))
+    assert not np.any(flags)
+
+
+@pytest.mark.parametrize('field, value', [
+    ('relaxed_factor', 0.5), ('refractory_fraction', 1.5), ('swing_level', 0.0),
+    ('confirm_s', 1.0), ('relaxed_sigma_mps', 0.0), ('relaxed_floor', -1.0),
+    ('current_factor', 0.5), ('max_break_s', 2.0)])
+def test_out_of_range_parameters_are_refused(field, value):
+    with pytest.raises(InputError, match=field):
+        StrideGateParams(**{field: value})
+
+
+def test_max_period_below_min_period_is_refused():
+    with pytest.raises(InputError, match='max_period_s'):
+        StrideGateParams(min_period_s=1.0, max_period_s=0.5)
