@@ -102,7 +102,8 @@ class StrideGateParams:
                                 ('swing_level', 1.0, 1e13), ('swing_arm_s', 0.0, 1.0),
                                 ('confirm_s', 0.0, 0.5), ('min_period_s', 0.1, 10.0),
                                 ('max_period_s', self.min_period_s, 10.0),
-                                ('max_break_s', 0.0, 1.0), ('current_factor', 1.0, 1e6), ('relaxed_sigma_mps', 1e-4, 10.0)):
+                                ('max_break_s', 0.0, 1.0), ('current_factor', 1.0, 1e6),
+                                ('relaxed_sigma_mps', 1e-4, 10.0)):
             value = getattr(self, name)
             if not low <= value <= high:
                 raise InputError(f'stride gate {name} = {value} is outside [{low}, {high}]')
