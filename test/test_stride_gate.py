@@ -17,14 +17,17 @@
 import math
 
 from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.stride_gate import (
     initial_state, PERIOD_S, samples_to_relaxed_stance, stride_gate_update, StrideGateParams)
+from anfis_elevation_ros.sim import Segment, simulate_walk
 import numpy as np
 import pytest
 
 RATE_HZ = 100.0
 GAMMA = 1.0e7
-PARAMS = StrideGateParams(relaxed_factor=3.0, relaxed_floor=0.0, refractory_fraction=0.7,
+PARAMS = StrideGateParams(enabled=True, relaxed_factor=3.0, relaxed_floor=0.0,
+                          refractory_fraction=0.7,
                           swing_level=1e9, swing_arm_s=0.05, confirm_s=0.05)
 
 
@@ -109,7 +112,8 @@ def test_a_brief_dip_followed_by_the_impact_is_refused():
 
 def test_the_relaxed_floor_takes_stances_above_the_relative_bound():
     statistics = np.concatenate([np.full(50, 1e5)] + [stride(4e7) for _ in range(3)])
-    params = StrideGateParams(relaxed_floor=5e7, swing_arm_s=0.05, confirm_s=0.05)
+    params = StrideGateParams(enabled=True, relaxed_floor=5e7, swing_arm_s=0.05,
+                              confirm_s=0.05)
     flags, _ = run(statistics, statistics < GAMMA, params)
     assert len(np.flatnonzero(flags & 4)) == 3
 
@@ -159,3 +163,18 @@ def test_out_of_range_parameters_are_refused(field, value):
 def test_max_period_below_min_period_is_refused():
     with pytest.raises(InputError, match='max_period_s'):
         StrideGateParams(min_period_s=1.0, max_period_s=0.5)
+
+
+def test_navigator_with_the_gate_finds_every_simulated_stride_and_live_equals_batch():
+    segments = (Segment.level(4), Segment.stairs(8, +1, steps_per_stride=2), Segment.level(2))
+    w = simulate_walk(segments, rng=np.random.default_rng(11), rate_hz=200.0, imu='tactical',
+                      step_height_m=0.17)
+    params = NavigatorParams(stride_gate=StrideGateParams(enabled=True))
+    track, cycles = FootNavigator(params).run(w.stamp_ns, w.acc_b, w.gyr_b)
+    assert len([c for c in cycles if c.valid]) == len(w.strides.stamp_ns)
+    assert track[-1].pos_n[2] == pytest.approx(8 * 0.17, rel=0.03)
+    live = FootNavigator(params)
+    outputs = [live.step(int(t), a, g) for t, a, g in zip(w.stamp_ns, w.acc_b, w.gyr_b)]
+    live_cycles = [o[1] for o in outputs if o is not None and o[1] is not None]
+    assert [c.stamp_ns for c in live_cycles] == [c.stamp_ns for c in cycles]
+    assert all(np.array_equal(a.pos_n, b.pos_n) for a, b in zip(cycles, live_cycles))

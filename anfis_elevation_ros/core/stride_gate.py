@@ -83,7 +83,7 @@ class StrideGateParams:
 
     """
 
-    enabled: bool = True
+    enabled: bool = False
     relaxed_factor: float = 3.0
     relaxed_floor: float = 1.0e7
     refractory_fraction: float = 0.7

@@ -21,10 +21,12 @@ recordings, and IMU samples/s through the full replay pipeline (input gate, mech
 detector, EKF, features, ANFIS) on one core.
 """
 
+import sys
 import time
 
-from anfis_elevation_ros.core.navigator import FootNavigator
+from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.params import load_model, load_pipeline_params
+from anfis_elevation_ros.core.stride_gate import StrideGateParams
 from anfis_elevation_ros.sim import building_walk, simulate_walk
 from anfis_elevation_ros.tools.datasets import (
     dataset_files, load_mad_stairs, load_pyshoe_vicon, load_xio)
@@ -33,30 +35,33 @@ from anfis_elevation_ros.tools.replay import replay_recording
 import numpy as np
 
 
-def pyshoe_errors():
+def pyshoe_errors(params=None):
     errors = []
     for path in dataset_files('pyshoe_vicon'):
         recording, truth = load_pyshoe_vicon(path)
-        track, _ = FootNavigator().run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
+        track, _ = FootNavigator(params).run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
         first = np.searchsorted(recording.stamp_ns, track[0].stamp_ns)
         errors.append(pyshoe_position_error(np.array([p.pos_n for p in track]), truth[first:]))
     return np.array(errors)
 
 
-def final_height(recording):
-    track, _ = FootNavigator().run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
+def final_height(recording, params=None):
+    track, _ = FootNavigator(params).run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
     return track[-1].pos_n[2]
 
 
 def main():
-    errors = pyshoe_errors()
+    # --stride-gate: the real recordings with stride_gate.enabled (core/stride_gate.py).
+    params = NavigatorParams(stride_gate=StrideGateParams(enabled='--stride-gate' in sys.argv))
+    errors = pyshoe_errors(params)
     print(f'pyshoe VICON, {len(errors)} trials: median {np.median(errors):.3f} m, mean '
           f'{errors.mean():.3f} m, max {errors.max():.3f} m, {np.sum(errors > 0.2)} above 0.2 m')
     for path in dataset_files('mad_stairs'):
-        heights = [final_height(load_mad_stairs(path, foot)) for foot in ('left', 'right')]
+        heights = [final_height(load_mad_stairs(path, foot), params)
+                   for foot in ('left', 'right')]
         print(f'{path.name}: final height left {heights[0]:+.2f} m, right {heights[1]:+.2f} m')
     for path in dataset_files('xio_foot'):
-        print(f'{path.name}: final height {final_height(load_xio(path)):+.2f} m')
+        print(f'{path.name}: final height {final_height(load_xio(path), params):+.2f} m')
 
     walk = simulate_walk(building_walk(), rng=np.random.default_rng(0), rate_hz=200.0,
                          imu='consumer')

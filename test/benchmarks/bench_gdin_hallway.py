@@ -26,8 +26,11 @@ rotation about the start): the IMU's initial heading is unknown, as in any foot-
 benchmark.
 """
 
+import sys
+
 from anfis_elevation_ros.core.heading_aids import HeadingAidParams
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
+from anfis_elevation_ros.core.stride_gate import StrideGateParams
 from anfis_elevation_ros.tools.datasets import dataset_files
 from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_walk
 import numpy as np
@@ -62,6 +65,8 @@ def walk_figures(walk, params):
 
 
 def main():
+    # --stride-gate: with stride_gate.enabled (core/stride_gate.py).
+    gate = StrideGateParams(enabled='--stride-gate' in sys.argv)
     finals = {name: [] for name in AIDS}
     print('walk cycles/strides path_m | final % of path, mean stride error m: '
           + ' | '.join(AIDS))
@@ -70,7 +75,8 @@ def main():
         row = []
         for name, aid in AIDS.items():
             cycles, final_pct, mean_m = walk_figures(
-                walk, NavigatorParams(heading=aid, gyro_range_rps=GYRO_RANGE_RPS))
+                walk, NavigatorParams(heading=aid, gyro_range_rps=GYRO_RANGE_RPS,
+                                      stride_gate=gate))
             finals[name].append(final_pct)
             row.append(f'{final_pct:5.1f} {mean_m:5.2f}')
         print(f'{path.stem[-2:]} {cycles:4d}/{walk.n_strides:<4d} {walk.path_length_m:6.1f} | '
