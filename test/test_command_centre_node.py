@@ -132,7 +132,7 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
         pubs[ns] = {name: node.create_publisher(msg_type, f'{ns}/{name}', LATEST_QOS)
                     for msg_type, name in ((PointStamped, 'elevation'), (Int32, 'floor'),
                                            (Bool, 'floor_certain'), (Int8, 'stair_mode'),
-                                           (Odometry, 'foot_odom'))}
+                                           (Odometry, 'foot_odom_throttle'))}
     diagnostics = node.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
     point = PointStamped()
     point.header.stamp.sec = 5
@@ -147,7 +147,7 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     odom.pose.pose.position.x, odom.pose.pose.position.y = 1.5, 2.0
     odom.pose.pose.orientation.w = 1.0
     odom.pose.covariance[0] = odom.pose.covariance[7] = 0.08
-    pubs['/ff7']['foot_odom'].publish(odom)
+    pubs['/ff7']['foot_odom_throttle'].publish(odom)
 
     def responder(rid):
         return next((r for r in centre.incident.snapshot()['responders'] if r['id'] == rid),
@@ -175,8 +175,8 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     pubs['/ff8']['elevation'].publish(bad)
     assert wait_for(lambda: sum(centre.incident.snapshot()['rejected'].values()) == 1, 10.0)
     assert responder('/ff7')['x_m'] == 1.5 and responder('/ff7')['floor'] == 1
-    # foot_odom is decoded from its bytes in the node: bytes that are no Odometry are counted.
-    pubs['/ff8']['foot_odom'].publish(serialize_message(odom)[:100])
+    # The track is decoded from its bytes in the node: bytes that are no Odometry are counted.
+    pubs['/ff8']['foot_odom_throttle'].publish(serialize_message(odom)[:100])
     assert wait_for(lambda: centre.rejected == 1, 10.0), centre.rejected
     assert responder('/ff7')['x_m'] == 1.5
 

@@ -17,15 +17,18 @@ One responder under a namespace: ``run --namespace /ff1`` and ``play --topic /ff
 
 The parameter file keys its nodes ``/**/imu_node`` (as config/params.yaml does): it must apply
 under the namespace (the test's state directory and model are used). Every output and the Imu
-input live under ``/ff1``, nothing reaches the root namespace's ``elevation``, and the
-diagnostics status names carry the node's full name.
+input live under ``/ff1``, nothing reaches the root namespace's ``elevation``, the
+diagnostics status names carry the node's full name, and the track comes twice: ``foot_odom``
+at 10 Hz and, for the command centre, ``foot_odom_throttle`` at 2 Hz.
 """
 
 import subprocess
+import time
 
 from anfis_elevation_ros.tools.bags import read_imu_bag
 from live_support import cli, cli_env, NodesProcess, PACKAGE_ROOT, SAMPLE_BAG, truth_floors
 from live_support import wait_for, write_linear_model, write_params
+import numpy as np
 import pytest
 import yaml
 
@@ -66,8 +69,22 @@ def listeners():
         thread.join(timeout=5.0)
 
 
+def listen_to_tracks(node) -> dict:
+    """Subscribe the node to foot_odom and foot_odom_throttle; return their receive times."""
+    from nav_msgs.msg import Odometry
+
+    from anfis_elevation_ros.nodes.qos import LATEST_QOS
+
+    times = {'foot_odom': [], 'foot_odom_throttle': []}
+    for topic, received in times.items():
+        node.create_subscription(Odometry, topic, lambda _, r=received: r.append(time.monotonic()),
+                                 LATEST_QOS)
+    return times
+
+
 def test_run_under_a_namespace(tmp_path, listeners):
     inside, root = listeners
+    tracks = listen_to_tracks(inside)
     model = write_linear_model(tmp_path / 'model.json')
     params = namespaced_params(tmp_path / 'params.yaml', model)
     messages = len(read_imu_bag(SAMPLE_BAG))
@@ -86,6 +103,10 @@ def test_run_under_a_namespace(tmp_path, listeners):
         assert wait_for(lambda: inside.floors and inside.floors[-1][0] == final_floor, 30)
         assert len(inside.elevations) > 10
         assert root.elevations == []
+        # The command centre's track (centre_track_rate_hz, 2 Hz) beside the 10 Hz one.
+        full, thinned = (np.diff(tracks[t]) for t in ('foot_odom', 'foot_odom_throttle'))
+        assert len(thinned) >= 5 and len(full) >= 3 * len(thinned), (len(full), len(thinned))
+        assert 0.4 < np.median(thinned) < 0.6 and np.median(full) < 0.15
         assert nodes.stop() == 0, nodes.log()
     # The /**/ keys applied: the state files went to the test's directory, named by namespace.
     assert sorted(p.name for p in (tmp_path / 'state').iterdir()) == [

@@ -72,7 +72,8 @@ class AlarmParams:
         m (0.3 m: above the few centimetres a still foot's ZUPT-aided track wanders, below
         half a stride).
     lost_contact_s : s without a tracking message from a responder before lost contact
-        (foot_odom comes at 10 Hz: 10 s is many missed messages, not one radio fade).
+        (the track comes at 2 Hz, ``foot_odom_throttle``: 10 s is many missed messages, not
+        one radio fade).
     floor_unknown_s : s with the floor uncertain after the last stair cycle before the
         floor-unknown alarm (settling on a floor takes one to three level cycles).
 

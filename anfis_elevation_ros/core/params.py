@@ -353,6 +353,9 @@ _IMU_NODE_ONLY = (
     _MAP_FRAME_ID,
     ParamSpec('track_rate_hz', 10.0, 'Rate of the foot_odom track, Hz; 0 publishes none.', 0.0,
               100.0),
+    ParamSpec('centre_track_rate_hz', 2.0, 'Rate of foot_odom_throttle, the same track thinned '
+              'for the command centre over a radio network (breadcrumbs a stride apart), Hz; 0 '
+              'publishes none.', 0.0, 100.0),
     ParamSpec('diagnostics_rate_hz', 1.0, 'Rate of the /diagnostics status, Hz.', 0.1, 10.0),
     _BUILDING_FILE,
 ) + _PERSISTENCE

@@ -20,19 +20,22 @@ A responder is a namespace that publishes ``elevation`` (geometry_msgs/PointStam
 ``discovery_period_s`` the node reads the ROS graph (``get_topic_names_and_types``) and
 subscribes each new responder's topics:
 
-=================  =====================  ==============================  ===================
-topic              type                   QoS                             Incident
-=================  =====================  ==============================  ===================
-``elevation``      PointStamped           reliable, transient local, 1    update_elevation
-``floor``          Int32                  reliable, transient local, 1    update_floor
-``floor_certain``  Bool                   reliable, transient local, 1    update_floor_certain
-``stair_mode``     Int8                   reliable, transient local, 1    update_mode
-``foot_odom``      Odometry (raw)         reliable, transient local, 1    update_pose
-``/diagnostics``   DiagnosticArray        reliable, volatile, 10          update_diagnostics
-=================  =====================  ==============================  ===================
+======================  ===============  ============================  ====================
+topic                   type             QoS                           Incident
+======================  ===============  ============================  ====================
+``elevation``           PointStamped     reliable, transient local, 1  update_elevation
+``floor``               Int32            reliable, transient local, 1  update_floor
+``floor_certain``       Bool             reliable, transient local, 1  update_floor_certain
+``stair_mode``          Int8             reliable, transient local, 1  update_mode
+``foot_odom_throttle``  Odometry (raw)   reliable, transient local, 1  update_pose
+``/diagnostics``        DiagnosticArray  reliable, volatile, 10        update_diagnostics
+======================  ===============  ============================  ====================
 
-``foot_odom`` is two thirds of the messages (10 Hz); it is taken raw and decoded by rosbags
-(``odometry_msg.py``), a fifth of the cost of rclpy's Python message.
+``foot_odom_throttle`` is the IMU node's track at ``centre_track_rate_hz`` (2 Hz), not its
+10 Hz ``foot_odom``: 50 responders' 10 Hz tracks took 11-14 % of a core here, 2 Hz 7.5 %
+(``test/benchmarks/bench_command_centre_dds.py``). It is still most of the messages: taken
+raw and decoded by rosbags (``odometry_msg.py``), a fifth of the cost of rclpy's Python
+message.
 
 Transient local as the responders publish them: a command centre started late gets every
 responder's last state at once. A diagnostics status belongs to the responder whose node's
@@ -206,8 +209,8 @@ class CommandCentreNode(Node):
         )
         for msg_type, name, feed in feeds:
             self.create_subscription(msg_type, f'{ns}/{name}', self._guarded(feed), LATEST_QOS)
-        # Two thirds of the messages: decoded from the raw bytes by rosbags (odometry_msg.py).
-        self.create_subscription(Odometry, f'{ns}/foot_odom', self._guarded(
+        # Most of the messages: decoded from the raw bytes by rosbags (odometry_msg.py).
+        self.create_subscription(Odometry, f'{ns}/foot_odom_throttle', self._guarded(
             lambda data: self._on_odom(ns, odometry_from_cdr(data))), LATEST_QOS, raw=True)
         self.get_logger().info(f'responder {ns} found; subscribed to its topics')
 

@@ -42,6 +42,9 @@ Publishes:
     ``track_rate_hz`` (10 Hz): the latest EKF pose of the IMU, frame ``odom_frame_id``
     (REP 105 ``odom``), child frame the IMU frame; position covariance from the filter
     (isotropic, sigma^2 / 3 per axis), the rest unknown (0); twist not estimated (0).
+    ``foot_odom_throttle``, the same, at ``centre_track_rate_hz`` (2 Hz), for the command
+    centre: 50 responders' 10 Hz tracks cost it more CPU than it has, and a radio network
+    358 kB/s (``topic_tools throttle``'s name; those tools are not in the wheels).
     With a building file that has a ``start``, ``foot_odom`` and ``gait_cycle`` are in the
     building's frame, ``map_frame_id`` (REP 105 ``map``: the track starts at the entrance,
     turned so that its first strides point along ``start.heading_deg``, ``core/map_frame.py``;
@@ -172,6 +175,7 @@ class ImuNode(PersistsState, Node):
         self._malformed = 0
         self._last_point = None
         self._published_point = None
+        self._throttled_point = None
         self._period_start = (0, 0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
         self._period_start_ns = self.get_clock().now().nanoseconds
         self._imu_topic = self.resolve_topic_name(values['imu_topic'])
@@ -195,6 +199,7 @@ class ImuNode(PersistsState, Node):
         self._cycle_pub = self.create_publisher(PointCloud2, 'gait_cycle',
                                                 cycle_history_qos(values['cycle_history']))
         self._odom_pub = self.create_publisher(Odometry, 'foot_odom', LATEST_QOS)
+        self._throttled_pub = self.create_publisher(Odometry, 'foot_odom_throttle', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
         # Raw messages: _on_imu decodes the CDR bytes itself (imu_sample_from_cdr), which
         # halves the cost of a message compared with building the Python Imu object.
@@ -218,6 +223,8 @@ class ImuNode(PersistsState, Node):
             self.get_logger().info(f'navigator compiled in {compile_s:.0f} s (cached from now on)')
         if values['track_rate_hz'] > 0.0:
             self.create_timer(1.0 / values['track_rate_hz'], self._publish_track)
+        if values['centre_track_rate_hz'] > 0.0:
+            self.create_timer(1.0 / values['centre_track_rate_hz'], self._publish_throttled_track)
         self.create_timer(1.0 / values['diagnostics_rate_hz'], self._publish_diagnostics)
         self.get_logger().info(f'listening on {self._imu_topic}; waiting for the first stance '
                                f'to start navigating; track in frame {self._track_frame_id!r}')
@@ -422,14 +429,21 @@ class ImuNode(PersistsState, Node):
 
     def _publish_track(self):
         with self._lock:
-            self._publish_latest_point()
+            point = self._last_point
+            if point is not self._published_point:
+                self._published_point = point
+                self._publish_point(point, self._odom_pub)
 
-    def _publish_latest_point(self):
-        point = self._last_point
-        if point is None or point is self._published_point:
-            return
-        self._published_point = point
-        if not (np.all(np.isfinite(point.pos_n)) and np.all(np.isfinite(point.quat_nb))):
+    def _publish_throttled_track(self):
+        with self._lock:
+            point = self._last_point
+            if point is not self._throttled_point:
+                self._throttled_point = point
+                self._publish_point(point, self._throttled_pub)
+
+    def _publish_point(self, point, publisher):
+        if point is None or not (np.all(np.isfinite(point.pos_n))
+                                 and np.all(np.isfinite(point.quat_nb))):
             return
         msg = Odometry()
         msg.header.stamp = ns_to_stamp(point.stamp_ns)
@@ -442,7 +456,7 @@ class ImuNode(PersistsState, Node):
         covariance = [0.0] * 36
         covariance[0] = covariance[7] = covariance[14] = variance
         msg.pose.covariance = covariance
-        self._odom_pub.publish(msg)
+        publisher.publish(msg)
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the diagnostics since the last call (rates over that period)."""

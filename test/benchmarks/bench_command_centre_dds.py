@@ -16,9 +16,11 @@
 Benchmark of the command centre over DDS: N fake responders into the ``command-centre`` process.
 
 Run from the repository root: ``python test/benchmarks/bench_command_centre_dds.py [--minutes
-2] [--responders 50] [--track-hz 10]`` (a script, not a test). This process publishes, for each
-responder ``/bK`` as ``run --namespace /bK`` does, ``foot_odom`` at ``--track-hz`` (the IMU
-node's ``track_rate_hz``, 10 Hz by default) and, once a second,
+2] [--responders 50] [--track-hz 10] [--centre-track-hz 2]`` (a script, not a test). This
+process publishes, for each responder ``/bK`` as ``run --namespace /bK`` does, ``foot_odom`` at
+``--track-hz`` (the IMU node's ``track_rate_hz``, 10 Hz by default), ``foot_odom_throttle`` at
+``--centre-track-hz`` (``centre_track_rate_hz``, 2 Hz; what the centre subscribes) and, once a
+second,
 ``elevation``, ``floor``, ``floor_certain``, ``stair_mode`` and a ``/diagnostics`` array; the
 ``command-centre`` subprocess discovers them, subscribes and feeds its Incident, and this
 process reads its push stream (``/api/events``). After a warm-up it prints:
@@ -68,7 +70,7 @@ def proc_rss_mb(pid: int) -> float:
 class FakeResponders:
     """One node publishing the topics of N responders at their real rates."""
 
-    def __init__(self, node, responders: int, track_hz: float):
+    def __init__(self, node, responders: int, track_hz: float, centre_track_hz: float):
         from diagnostic_msgs.msg import DiagnosticArray
         from geometry_msgs.msg import PointStamped
         from nav_msgs.msg import Odometry
@@ -77,7 +79,7 @@ class FakeResponders:
         from anfis_elevation_ros.nodes.qos import DIAGNOSTICS_QOS, LATEST_QOS
 
         self.types = {'elevation': PointStamped, 'floor': Int32, 'floor_certain': Bool,
-                      'stair_mode': Int8, 'foot_odom': Odometry}
+                      'stair_mode': Int8, 'foot_odom': Odometry, 'foot_odom_throttle': Odometry}
         self.namespaces = [f'/b{k + 1}' for k in range(responders)]
         self.pubs = {ns: {name: node.create_publisher(t, f'{ns}/{name}', LATEST_QOS)
                           for name, t in self.types.items()} for ns in self.namespaces}
@@ -85,6 +87,7 @@ class FakeResponders:
                                                  DIAGNOSTICS_QOS)
         self.step = 0
         self.pose_every = round(TICK_HZ / track_hz)
+        self.throttled_every = round(TICK_HZ / centre_track_hz)
         node.create_timer(1.0 / TICK_HZ, self.publish)
 
     def publish(self):
@@ -103,6 +106,8 @@ class FakeResponders:
             odom.pose.covariance[0] = odom.pose.covariance[7] = 0.1
             if (self.step + k) % self.pose_every == 0:
                 pubs['foot_odom'].publish(odom)
+            if (self.step + k) % self.throttled_every == 0:
+                pubs['foot_odom_throttle'].publish(odom)
             if self.step % TICK_HZ == k % TICK_HZ:         # once a second, spread out
                 point = self.types['elevation']()
                 point.header.stamp = odom.header.stamp
@@ -152,6 +157,9 @@ def main():
     parser.add_argument('--responders', type=int, default=50)
     parser.add_argument('--track-hz', type=float, default=10.0, choices=(10.0, 5.0, 2.0, 1.0),
                         help="rate of each responder's foot_odom (track_rate_hz)")
+    parser.add_argument('--centre-track-hz', type=float, default=2.0,
+                        choices=(10.0, 5.0, 2.0, 1.0),
+                        help="rate of each responder's foot_odom_throttle (centre_track_rate_hz)")
     args = parser.parse_args()
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 
@@ -166,7 +174,7 @@ def main():
     centre.stdout.readline()
     rclpy.init()
     node = rclpy.create_node('fake_responders')
-    FakeResponders(node, args.responders, args.track_hz)
+    FakeResponders(node, args.responders, args.track_hz, args.centre_track_hz)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     spinning = threading.Thread(target=executor.spin, daemon=True)
@@ -182,7 +190,7 @@ def main():
         latencies = np.array(push.latencies)
         state = json.load(urllib.request.urlopen(url + 'api/state', timeout=30))
         print(f'{args.responders} responders over DDS, foot_odom at {args.track_hz:g} Hz, '
-              f'{args.minutes:g} min after a '
+              f'foot_odom_throttle at {args.centre_track_hz:g} Hz, {args.minutes:g} min after a '
               f'{WARM_UP_S:g} s warm-up; {len(state["responders"])} on the map')
         print(f'command-centre CPU {100 * (cpu1 - cpu0) / (wall1 - wall0):.1f} % of one core; '
               f'RSS {rss0:.1f} -> {rss1:.1f} MB')
