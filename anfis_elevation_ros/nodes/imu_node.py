@@ -174,8 +174,7 @@ class ImuNode(PersistsState, Node):
         self._internal_errors = 0
         self._malformed = 0
         self._last_point = None
-        self._published_point = None
-        self._throttled_point = None
+        self._published_points = {}     # publisher -> the point it published last
         self._period_start = (0, 0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
         self._period_start_ns = self.get_clock().now().nanoseconds
         self._imu_topic = self.resolve_topic_name(values['imu_topic'])
@@ -222,9 +221,11 @@ class ImuNode(PersistsState, Node):
         if compile_s > 1.0:
             self.get_logger().info(f'navigator compiled in {compile_s:.0f} s (cached from now on)')
         if values['track_rate_hz'] > 0.0:
-            self.create_timer(1.0 / values['track_rate_hz'], self._publish_track)
+            self.create_timer(1.0 / values['track_rate_hz'],
+                              lambda: self._publish_track(self._odom_pub))
         if values['centre_track_rate_hz'] > 0.0:
-            self.create_timer(1.0 / values['centre_track_rate_hz'], self._publish_throttled_track)
+            self.create_timer(1.0 / values['centre_track_rate_hz'],
+                              lambda: self._publish_track(self._throttled_pub))
         self.create_timer(1.0 / values['diagnostics_rate_hz'], self._publish_diagnostics)
         self.get_logger().info(f'listening on {self._imu_topic}; waiting for the first stance '
                                f'to start navigating; track in frame {self._track_frame_id!r}')
@@ -427,19 +428,13 @@ class ImuNode(PersistsState, Node):
 
     # -- outputs -------------------------------------------------------------------------------
 
-    def _publish_track(self):
+    def _publish_track(self, publisher):
+        """Publish the latest point on foot_odom or foot_odom_throttle, unless it already was."""
         with self._lock:
             point = self._last_point
-            if point is not self._published_point:
-                self._published_point = point
-                self._publish_point(point, self._odom_pub)
-
-    def _publish_throttled_track(self):
-        with self._lock:
-            point = self._last_point
-            if point is not self._throttled_point:
-                self._throttled_point = point
-                self._publish_point(point, self._throttled_pub)
+            if point is not self._published_points.get(publisher):
+                self._published_points[publisher] = point
+                self._publish_point(point, publisher)
 
     def _publish_point(self, point, publisher):
         if point is None or not (np.all(np.isfinite(point.pos_n))
