@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""nav_msgs/Odometry from its CDR bytes, decoded by rosbags: the command centre's foot_odom."""
+"""nav_msgs/Odometry from its CDR bytes, decoded by rosbags: the command centre's track."""
 
 from rosbags.serde import SerdeError
 
@@ -26,11 +26,11 @@ def odometry_from_cdr(data: bytes):
     """
     Return the nav_msgs/Odometry of a serialised message (rosbags' class, same field names).
 
-    The command centre subscribes ``foot_odom`` with ``raw=True`` and decodes here: rclpy's
-    conversion to its Python message (nine objects and two 36-float covariance arrays) costs
-    about 150 us per message against about 27 us for rosbags' generated deserializer, and at
-    50 responders x 10 Hz it was half of the command centre's CPU
-    (test/benchmarks/bench_command_centre_dds.py).
+    The command centre subscribes ``foot_odom_throttle`` with ``raw=True`` and decodes here:
+    rclpy's conversion to its Python message (nine objects and two 36-float covariance arrays)
+    costs about 150 us per message against about 27 us for rosbags' generated deserializer,
+    and at 50 responders x 10 Hz (``foot_odom``, before the throttled track) it was half of
+    the command centre's CPU (test/benchmarks/bench_command_centre_dds.py).
 
     Raises
     ------
