@@ -342,6 +342,9 @@ def test_supervisor_restart_mid_flight_with_a_building_file(walk, ros):
     assert (certain and abs(height_m - truth_m) < 1e-9) or (not certain and not exact), \
         f'height {height_m:.2f} m (truth {truth_m:.2f} m), certain {certain}:\n{cls_log}'
     if not exact:
-        assert 'floor uncertain' in cls_log, cls_log
+        # The cycles the outage lost come back flagged, at the height before the bridge; then
+        # the bridge credits their steps (exact and certain at the end, asserted above) or the
+        # floor is declared uncertain.
+        assert 'floor uncertain' in cls_log or 'steps credited' in cls_log, cls_log
     print(f'outage: {re.search(r"after ([0-9.]+ s)", imu_log).group(1)}; final height '
           f'{height_m:.2f} m (truth {truth_m:.2f} m), floor_certain {certain}')
