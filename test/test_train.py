@@ -228,7 +228,7 @@ def test_bag_labels_per_cycle_and_per_sample_agree_with_the_simulator_truth(tmp_
     start of its swing (a segment label held until the next one). The navigator sees the same
     float64 samples (the bag stores them exactly), so features must be equal to the bit.
     """
-    spec = train.sim_spec(81, 40.0)                  # 400 Hz, consumer IMU, up and down
+    spec = train.sim_spec(375, 40.0)                 # 393 Hz, consumer IMU, up and down
     walk = train.simulate_run(spec)
     bag = tmp_path / 'walk'
     write_imu_bag(bag, walk.to_recording())

@@ -21,6 +21,9 @@ Public API: ``building_walk``, ``tower_walk``, ``tower_floor_elevations_m``, ``r
 ``sample_walk``, ``nominal_duration_s``.
 """
 
+import math
+from typing import NamedTuple
+
 import numpy as np
 
 from .motion import draw_uniform, segment_strides
@@ -175,15 +178,24 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
     Plan a random mixture of level walking, stair flights, turns and stops (training data).
 
     The building's stairs are drawn first, once per storey (floors f to f + 1, f in
-    [-``max_floors``, ``max_floors`` - 1], from the lowest up): its riser height from
-    ``step_height_range_m`` (storeys may differ), its steps per flight, 6-20, and its flights,
-    two with a landing turn (probability 0.6) or one. Then activities are drawn until the
-    nominal duration reaches ``duration_s`` (minus simulate_walk's default stands): level walks
-    of 3-15 strides (straight or turning up to 180 deg), a storey of stairs up or down (the
-    storey's own geometry whenever it is walked; per traversal the wearer's steps per stride
-    1..4, drawn with ``steps_per_stride_weights``, and the side of the landing turn), turns on
-    the spot of 45-180 deg and stops of 2-10 s. The floor stays within +-``max_floors`` storeys
-    of the start.
+    [-``max_floors``, ``max_floors`` - 1], from the lowest up; ``_draw_staircase``): its
+    riser height from ``step_height_range_m`` (storeys may differ), its steps per flight,
+    6-20, its flights, two with a landing turn (probability 0.6) or one, and where it is: the
+    foot of its first flight within 10 m of the start in plan, the heading up it (a multiple
+    of 90 deg) and the side of its landing turn. Then activities are drawn until the nominal
+    duration reaches ``duration_s`` (minus simulate_walk's default stands): level walks of
+    3-15 strides of one length drawn from ``gait.level_stride_length_m`` (straight or turning
+    up to 180 deg), a storey of stairs up or down, turns on the spot of 45-180 deg and stops
+    of 2-10 s. To take a storey's stairs the wearer turns on the spot towards their foot (going
+    up) or head (going down), walks there in a straight line (strides of at most 1.5 m) and
+    turns on the spot to face up or down them; the flights are the storey's own whenever it is
+    walked, the wearer's steps per stride 1..4 drawn per traversal with
+    ``steps_per_stride_weights``, so going down retraces the way up. The plan knows its
+    position from the nominal stride lengths (``_advance_nominal``); simulate_walk jitters
+    given stride lengths (``GaitParams.stride_length_jitter``, 3 % of each stride), so a
+    storey's flights start where the plan puts them to within that jitter summed over the
+    strides walked since the plan's start (about 0.5 m after 10 minutes). The floor stays
+    within +-``max_floors`` storeys of the start.
 
     Returns
     -------
@@ -203,45 +215,142 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
     weights = weights / weights.sum()
     check_range('max_floors', max_floors, 1, 100)
     budget = duration_s - DEFAULT_INITIAL_STAND_S - DEFAULT_FINAL_STAND_S
-    storeys = {f: _draw_storey(rng, (low, high)) for f in range(-max_floors, max_floors)}
+    storeys = {f: _draw_staircase(rng, (low, high)) for f in range(-max_floors, max_floors)}
     segments = []
     elapsed = 0.0
     floor = 0
+    xy, yaw = np.zeros(2), 0.0
     while elapsed < budget:
         activity = rng.choice(4, p=(0.4, 0.3, 0.15, 0.15))
         if activity == 0:
             turn = float(rng.choice((0.0, 0.0, 0.0, 45.0, 90.0, 180.0))) * rng.choice((-1, 1))
             n = int(rng.integers(3, 16))
-            new = [Segment.level(n, turn_deg=turn if abs(turn) <= 60.0 * n else 0.0)]
+            new = [Segment.level(n, turn_deg=turn if abs(turn) <= 60.0 * n else 0.0,
+                                 stride_length_m=draw_uniform(rng, gait.level_stride_length_m))]
         elif activity == 1:
             direction = int(rng.choice((-1, 1)))
             if abs(floor + direction) > max_floors:
                 direction = -direction
-            k, steps, flights = storeys[min(floor, floor + direction)]
+            stairs = storeys[min(floor, floor + direction)]
             per_stride = int(rng.choice(4, p=weights)) + 1
-            side = float(rng.choice((-1.0, 1.0)))
-            new = [Segment.level(1)]
-            for j in range(flights):
-                if j:
-                    new.append(Segment.level(2, turn_deg=180.0 * side, stride_length_m=0.7))
-                new.append(Segment.stairs(steps, direction, steps_per_stride=per_stride,
-                                          step_height_m=k))
+            start_xy, start_yaw = _stair_start(stairs, direction)
+            new = (_walk_to(xy, yaw, start_xy, start_yaw)
+                   + _stair_flights(stairs, direction, per_stride))
             floor += direction
         elif activity == 2:
             new = [Segment.turn(draw_uniform(rng, (45.0, 180.0)) * rng.choice((-1, 1)))]
         else:
             new = [Segment.stand(draw_uniform(rng, (2.0, 10.0)))]
         segments.extend(new)
+        xy, yaw = _advance_nominal(xy, yaw, new)
         elapsed += nominal_duration_s(new, gait)
     return tuple(segments)
 
 
-def _draw_storey(rng: np.random.Generator, step_height_range_m: tuple) -> tuple:
-    """Draw one storey's stairs: (riser height K in m, steps per flight, number of flights)."""
+class _Staircase(NamedTuple):
+    """
+    One storey's stairs in a random_walk building.
+
+    ``foot_xy_m`` is the start of the first flight going up, facing ``up_yaw_rad`` (ENU,
+    from east, counter-clockwise); two flights are joined by a 180 deg landing turn to the
+    ``landing_side`` (+1 left, -1 right, going up).
+    """
+
+    step_height_m: float
+    steps_per_flight: int
+    flights: int
+    foot_xy_m: tuple
+    up_yaw_rad: float
+    landing_side: float
+
+
+def _draw_staircase(rng: np.random.Generator, step_height_range_m: tuple) -> _Staircase:
+    """Draw one storey's stairs: riser height, steps per flight, flights, place and heading."""
     step_height_m = draw_uniform(rng, step_height_range_m)
     steps = int(rng.integers(6, 21))
     flights = 2 if rng.uniform() < 0.6 else 1
-    return step_height_m, steps, flights
+    foot = (draw_uniform(rng, (-10.0, 10.0)), draw_uniform(rng, (-10.0, 10.0)))
+    up_yaw = 0.5 * math.pi * int(rng.integers(4))
+    side = float(rng.choice((-1.0, 1.0)))
+    return _Staircase(step_height_m, steps, flights, foot, up_yaw, side)
+
+
+def _stair_flights(stairs: _Staircase, direction: int, steps_per_stride: int = 2) -> list:
+    """
+    Return the segments of one traversal of a storey's stairs, up (+1) or down (-1).
+
+    Going down takes the flights in reverse with the landing turn to the other side, so it
+    retraces the way up.
+    """
+    side = stairs.landing_side * direction
+    segments = []
+    for j in range(stairs.flights):
+        if j:
+            segments.append(Segment.level(2, turn_deg=180.0 * side, stride_length_m=0.7))
+        segments.append(Segment.stairs(stairs.steps_per_flight, direction,
+                                       steps_per_stride=steps_per_stride,
+                                       step_height_m=stairs.step_height_m))
+    return segments
+
+
+def _stair_start(stairs: _Staircase, direction: int) -> tuple:
+    """
+    Return where a traversal of the stairs starts: (xy in m, heading in rad).
+
+    Up: the foot, facing up the stairs. Down: the head (where the way up ends, nominal
+    stride lengths), facing back the way the last flight up came.
+    """
+    foot = np.asarray(stairs.foot_xy_m, dtype=float)
+    if direction > 0:
+        return foot, stairs.up_yaw_rad
+    head, yaw = _advance_nominal(foot, stairs.up_yaw_rad, _stair_flights(stairs, +1))
+    return head, yaw + math.pi
+
+
+def _walk_to(xy, yaw: float, goal_xy, goal_yaw: float) -> list:
+    """
+    Return the segments from (xy, yaw) to (goal_xy, goal_yaw) at nominal stride lengths.
+
+    Turn on the spot towards the goal, walk straight to it in equal strides of at most
+    1.5 m (none when it is under 0.2 m away, the shortest stride), turn on the spot to
+    ``goal_yaw``; turns under 1 deg are left out.
+    """
+    segments = []
+    offset = np.asarray(goal_xy, dtype=float) - np.asarray(xy, dtype=float)
+    distance = float(np.hypot(*offset))
+    if distance >= 0.2:
+        bearing = math.atan2(offset[1], offset[0])
+        segments += _turn_on_the_spot(bearing - yaw)
+        n = math.ceil(distance / 1.5)
+        segments.append(Segment.level(n, stride_length_m=distance / n))
+        yaw = bearing
+    return segments + _turn_on_the_spot(goal_yaw - yaw)
+
+
+def _turn_on_the_spot(angle_rad: float) -> list:
+    """Return a turn by the angle wrapped to (-180, 180] deg, or nothing under 1 deg."""
+    angle_deg = math.degrees(math.remainder(angle_rad, 2.0 * math.pi))
+    return [Segment.turn(angle_deg)] if abs(angle_deg) >= 1.0 else []
+
+
+def _advance_nominal(xy, yaw: float, segments) -> tuple:
+    """
+    Return (xy in m, heading in rad) after the segments at their nominal stride lengths.
+
+    Per stride, as simulate_walk moves the foot: psi = yaw + turn / 2,
+    xy += length (cos psi, sin psi), yaw += turn. Level strides must have a given length.
+    """
+    xy = np.array(xy, dtype=float)
+    for seg in segments:
+        if seg.kind == 'stand':
+            continue
+        for _, turn, _, length, _, _ in segment_strides(seg, 0.17):
+            if length is None:
+                raise InputError('advance_nominal needs level segments with stride_length_m')
+            heading = yaw + 0.5 * turn
+            xy += length * np.array([math.cos(heading), math.sin(heading)])
+            yaw += turn
+    return xy, yaw
 
 
 def sample_walk() -> tuple:
