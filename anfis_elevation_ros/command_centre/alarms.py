@@ -40,8 +40,9 @@ Public API: :class:`AlarmParams`, :class:`Alarm`, :func:`no_motion_level`, ``KIN
 """
 
 from dataclasses import dataclass, fields
-import math
 from typing import Optional
+
+from ..core.validation import check_positive
 
 NO_MOTION = 'no_motion'
 LOST_CONTACT = 'lost_contact'
@@ -88,11 +89,7 @@ class AlarmParams:
     def __post_init__(self):
         """Refuse a value that is not a positive finite number, or alarm before pre-alarm."""
         for field in fields(self):
-            value = getattr(self, field.name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value) or value <= 0:
-                raise ValueError(f'AlarmParams.{field.name}: must be a positive number, got '
-                                 f'{value!r}')
+            check_positive(f'AlarmParams.{field.name}', getattr(self, field.name))
         if self.no_motion_alarm_s < self.no_motion_prealarm_s:
             raise ValueError(f'AlarmParams.no_motion_alarm_s ({self.no_motion_alarm_s}) must not '
                              f'be less than no_motion_prealarm_s ({self.no_motion_prealarm_s})')

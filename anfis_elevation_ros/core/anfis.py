@@ -67,6 +67,7 @@ import numpy as np
 
 from .errors import InputError
 from .json_file import read_json_file, write_text_atomically
+from .validation import check_finite, check_positive, check_range
 
 FORMAT_NAME = 'anfis_elevation_ros.anfis'
 """Value of the ``format`` key of a saved model."""
@@ -683,13 +684,6 @@ def _check_targets(name: str, y, n_samples: int) -> np.ndarray:
     return y
 
 
-def _check_positive(name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
-            or not math.isfinite(value) or value <= 0:
-        raise ValueError(f'{name} must be a finite number > 0, got {value!r}')
-    return float(value)
-
-
 def _uncovered_point(mf_params_1d: np.ndarray, lo: float, hi: float) -> Optional[float]:
     """First point of [lo, hi] where every triangle (a, c) support misses, or None if covered."""
     position = lo
@@ -886,12 +880,13 @@ class Anfis:
             x_check = _check_inputs('X_check', X_check, self.n_inputs)
             y_check = _check_targets('y_check', y_check, x_check.shape[0])
         epochs = _check_count('epochs', epochs, 1)
-        step_size = _check_positive('step_size', step_size)
-        step_increase = _check_positive('step_increase', step_increase)
-        step_decrease = _check_positive('step_decrease', step_decrease)
-        if isinstance(ridge, bool) or not isinstance(ridge, (int, float, np.floating)) \
-                or not math.isfinite(ridge) or ridge < 0:
-            raise ValueError(f'ridge must be a finite number >= 0, got {ridge!r}')
+        check_positive('step_size', step_size)
+        check_positive('step_increase', step_increase)
+        check_positive('step_decrease', step_decrease)
+        step_size, step_increase, step_decrease = (
+            float(step_size), float(step_increase), float(step_decrease))
+        check_finite('ridge', ridge)
+        check_range('ridge', ridge, 0.0, math.inf)
         universe = self._check_range(x, input_range)
 
         x = np.clip(x, universe[:, 0], universe[:, 1])

@@ -45,9 +45,9 @@ import math
 
 import numpy as np
 
-from .errors import InputError
 from .frames import mat_mul, mat_vec, quat_multiply, rotvec_to_quat, skew
 from .jit import jit
+from .validation import check_positive
 
 N_STATES = 15
 POS, VEL, ACC_BIAS, ATT, GYR_BIAS = (slice(i, i + 3) for i in range(0, N_STATES, 3))
@@ -93,9 +93,7 @@ class EkfParams:
 
     def __post_init__(self):
         for name in self.__dataclass_fields__:
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise InputError(f'{name} = {value} must be a positive finite number')
+            check_positive(name, getattr(self, name))
 
 
 @jit

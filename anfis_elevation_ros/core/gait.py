@@ -44,6 +44,7 @@ import numpy as np
 
 from .errors import InputError
 from .motion_features import foot_frame, MOTION_FEATURE_NAMES, motion_features
+from .validation import check_range
 
 PATENT_FEATURE_NAMES = ('mean_height_m', 'std_height_m', 'height_change_m', 'max_abs_height_m',
                         'max_pitch_rad')
@@ -96,10 +97,8 @@ class GaitParams:
         if not 0.02 <= self.min_swing_s < self.max_swing_s <= 10.0:
             raise InputError(f'need 0.02 <= min_swing_s ({self.min_swing_s}) < max_swing_s '
                              f'({self.max_swing_s}) <= 10 s')
-        if not 0.05 <= self.min_stride_m <= 2.0:
-            raise InputError(f'min_stride_m = {self.min_stride_m} is outside [0.05, 2.0]')
-        if not 1 <= self.mounting_strides <= 100:
-            raise InputError(f'mounting_strides = {self.mounting_strides} is outside [1, 100]')
+        check_range('min_stride_m', self.min_stride_m, 0.05, 2.0)
+        check_range('mounting_strides', self.mounting_strides, 1, 100)
 
 
 @dataclass(frozen=True)

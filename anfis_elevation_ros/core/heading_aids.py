@@ -50,7 +50,7 @@ import math
 import numpy as np
 
 from . import ekf
-from .errors import InputError
+from .validation import check_range
 
 QUARTER_TURN_RAD = 0.5 * math.pi
 
@@ -87,9 +87,7 @@ class HeadingAidParams:
         for name, low, high in (('hde_tolerance_deg', 0.5, 45.0), ('hde_sigma_deg', 0.01, 90.0),
                                 ('zaru_max_gyr_rps', 1e-4, 1.0), ('zaru_sigma_rps', 1e-6, 1.0),
                                 ('hde_straight_strides', 1, 20), ('min_stride_m', 0.05, 2.0)):
-            value = getattr(self, name)
-            if not low <= value <= high:
-                raise InputError(f'{name} = {value} is outside [{low}, {high}]')
+            check_range(name, getattr(self, name), low, high)
 
 
 def direction_offset(heading_rad: float, directions_rad) -> float:

@@ -74,6 +74,7 @@ from .riser_height import riser_count_bounds
 from .riser_height import StairwellRiserHeights
 from .stair_steps import bridged_step_count, flight_riser_count, MODE_DOWN, MODE_LEVEL, MODE_UP
 from .stair_steps import quantised_height_step, quantised_step_count, stair_mode
+from .validation import check_finite, check_range
 
 __all__ = ['bridged_step_count', 'CycleEstimate', 'ElevationParams', 'ElevationTracker',
            'FEATURE_NAMES', 'flight_riser_count', 'floor_index', 'HEIGHT_CHANGE',
@@ -97,16 +98,6 @@ MISSED_STRIDE_LIKE = (0.75, 1.25)
 
 DEFAULT_MODE_THRESHOLD = 0.5
 """sigma_th for a model that stores none: the midpoint of the training targets -1 / 0 / +1."""
-
-
-def _check_real(name: str, value, low: Optional[float] = None, high: Optional[float] = None):
-    ok = (isinstance(value, numbers.Real) and not isinstance(value, bool)
-          and math.isfinite(value) and (low is None or value >= low)
-          and (high is None or value <= high))
-    if not ok:
-        bounds = f'[{low}, {high}]' if high is not None else (
-            f'>= {low}' if low is not None else 'finite')
-        raise ValueError(f'ElevationParams.{name} must be a number in {bounds}, got {value!r}')
 
 
 @dataclass(frozen=True)
@@ -141,12 +132,13 @@ class ElevationParams:
     floor_tolerance_m: float = 0.5
 
     def __post_init__(self):
-        _check_real('step_height_m', self.step_height_m, 0.10, 0.25)
-        _check_real('step_height_sigma_m', self.step_height_sigma_m, 0.0, 0.1)
-        _check_real('floor_tolerance_m', self.floor_tolerance_m, 0.05, 1.5)
-        _check_real('mode_threshold', self.mode_threshold, -1.0, 1.0)
-        _check_real('floor_height_m', self.floor_height_m, 2.0)
-        _check_real('start_height_m', self.start_height_m)
+        check_range('ElevationParams.step_height_m', self.step_height_m, 0.10, 0.25)
+        check_range('ElevationParams.step_height_sigma_m', self.step_height_sigma_m, 0.0, 0.1)
+        check_range('ElevationParams.floor_tolerance_m', self.floor_tolerance_m, 0.05, 1.5)
+        check_range('ElevationParams.mode_threshold', self.mode_threshold, -1.0, 1.0)
+        check_finite('ElevationParams.floor_height_m', self.floor_height_m)
+        check_range('ElevationParams.floor_height_m', self.floor_height_m, 2.0, math.inf)
+        check_finite('ElevationParams.start_height_m', self.start_height_m)
         start_floor = self.start_floor
         if isinstance(start_floor, bool) or not isinstance(start_floor, numbers.Integral):
             raise ValueError(f'ElevationParams.start_floor must be an int, got {start_floor!r}')

@@ -65,6 +65,7 @@ import math
 
 from .errors import InputError
 from .units import MAX_PHYSICAL_GYR_RPS
+from .validation import check_range
 
 NON_FINITE = 'non_finite'
 WRONG_FRAME = 'wrong_frame'
@@ -125,23 +126,18 @@ class GateParams:
     max_future_jump_s: float = 1.0
 
     def __post_init__(self):
-        _check_number('acc_range_mps2', self.acc_range_mps2, 2.0 * STANDARD_GRAVITY_MPS2,
-                      MAX_PLAUSIBLE_ACC_MPS2)
-        _check_number('gyr_range_rps', self.gyr_range_rps, 1.0, MAX_PHYSICAL_GYR_RPS)
-        _check_number('max_gap_s', self.max_gap_s, 0.005, 1.0)
-        _check_number('max_future_jump_s', self.max_future_jump_s, self.max_gap_s, 3600.0)
+        check_range('GateParams.acc_range_mps2', self.acc_range_mps2,
+                    2.0 * STANDARD_GRAVITY_MPS2, MAX_PLAUSIBLE_ACC_MPS2)
+        check_range('GateParams.gyr_range_rps', self.gyr_range_rps, 1.0, MAX_PHYSICAL_GYR_RPS)
+        check_range('GateParams.max_gap_s', self.max_gap_s, 0.005, 1.0)
+        check_range('GateParams.max_future_jump_s', self.max_future_jump_s, self.max_gap_s,
+                    3600.0)
         if not isinstance(self.reject_saturated, bool):
             raise InputError(f'GateParams.reject_saturated = {self.reject_saturated!r} must be '
                              'true or false')
         if not isinstance(self.frame_id, str):
             raise InputError(f'GateParams.frame_id = {self.frame_id!r} must be a string '
                              "('' accepts any frame)")
-
-
-def _check_number(name, value, low, high):
-    if isinstance(value, bool) or not isinstance(value, (int, float)) \
-            or not low <= value <= high:
-        raise InputError(f'GateParams.{name} = {value!r} is outside [{low:g}, {high:g}]')
 
 
 class InputGate:

@@ -58,6 +58,7 @@ from .strapdown import strapdown_step
 from .stride_gate import initial_state, RELAXED_SIGMA, samples_to_relaxed_stance
 from .stride_gate import stride_gate_update, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
+from .validation import check_range
 from .zupt import adaptive_threshold, GaitIntensity, intensity_update, shoe_update, ShoeDetector
 from .zupt import ZuptParams
 
@@ -118,19 +119,15 @@ class NavigatorParams:
     mounting_rpy_deg: tuple = None
 
     def __post_init__(self):
-        if not 9.7 <= self.gravity_mps2 <= 9.9:
-            raise InputError(f'gravity_mps2 = {self.gravity_mps2} is outside [9.7, 9.9]')
-        if self.rate_hz != 0.0 and not 20.0 <= self.rate_hz <= 2000.0:
-            raise InputError(f'rate_hz = {self.rate_hz} must be 0 (auto) or in [20, 2000]')
-        if not 0.02 <= self.init_stance_s <= 10.0:
-            raise InputError(f'init_stance_s = {self.init_stance_s} is outside [0.02, 10]')
-        if not 0.0 <= self.still_gyr_rps <= 1.0:
-            raise InputError(f'still_gyr_rps = {self.still_gyr_rps} is outside [0, 1]')
-        if not 0.005 <= self.max_gap_s <= 1.0:
-            raise InputError(f'max_gap_s = {self.max_gap_s} is outside [0.005, 1]')
-        if self.gyro_range_rps != 0.0 and not 1.0 <= self.gyro_range_rps <= 200.0:
-            raise InputError(f'gyro_range_rps = {self.gyro_range_rps} must be 0 (unknown) or '
-                             f'in [1, 200] rad/s')
+        check_range('gravity_mps2', self.gravity_mps2, 9.7, 9.9)
+        if self.rate_hz != 0.0:
+            check_range('rate_hz', self.rate_hz, 20.0, 2000.0, note='or 0: automatic')
+        check_range('init_stance_s', self.init_stance_s, 0.02, 10.0)
+        check_range('still_gyr_rps', self.still_gyr_rps, 0.0, 1.0)
+        check_range('max_gap_s', self.max_gap_s, 0.005, 1.0)
+        if self.gyro_range_rps != 0.0:
+            check_range('gyro_range_rps', self.gyro_range_rps, 1.0, 200.0,
+                        note='rad/s, or 0: unknown')
         if self.mounting_rpy_deg is not None and len(self.mounting_rpy_deg) != 3:
             raise InputError(f'mounting_rpy_deg = {self.mounting_rpy_deg} must be 3 angles')
 

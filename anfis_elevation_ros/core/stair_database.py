@@ -53,6 +53,7 @@ import numpy as np
 
 from .errors import InputError
 from .height import MODE_LEVEL
+from .validation import check_range
 
 
 @dataclass(frozen=True)
@@ -80,16 +81,10 @@ class BuildingAidParams:
     stair_fix_delay_s: float = 0.5
 
     def __post_init__(self):
-        if not 1 <= self.align_strides <= 50:
-            raise InputError(f'align_strides = {self.align_strides} is outside [1, 50]')
-        if not 0.0 <= self.stair_fix_ratio <= 1.0:
-            raise InputError(f'stair_fix_ratio = {self.stair_fix_ratio} is outside [0, 1]')
-        if not 0.01 <= self.stair_fix_sigma_m <= 10.0:
-            raise InputError(f'stair_fix_sigma_m = {self.stair_fix_sigma_m} is outside '
-                             '[0.01, 10]')
-        if not 0.05 <= self.stair_fix_delay_s <= 10.0:
-            raise InputError(f'stair_fix_delay_s = {self.stair_fix_delay_s} is outside '
-                             '[0.05, 10]')
+        check_range('align_strides', self.align_strides, 1, 50)
+        check_range('stair_fix_ratio', self.stair_fix_ratio, 0.0, 1.0)
+        check_range('stair_fix_sigma_m', self.stair_fix_sigma_m, 0.01, 10.0)
+        check_range('stair_fix_delay_s', self.stair_fix_delay_s, 0.05, 10.0)
 
 
 @dataclass(frozen=True)

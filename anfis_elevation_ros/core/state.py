@@ -47,6 +47,7 @@ import tempfile
 import time
 
 from .errors import InputError
+from .validation import check_range
 
 STATE_FORMAT = 'anfis_elevation_ros.state'
 STATE_VERSION = 4
@@ -143,16 +144,13 @@ class NavigationState:
     def __post_init__(self):
         _check_fields(self)
         _check_walk_id(self.walk_id)
-        if not 0.1 <= self.stride_period_s <= 10.0:
-            raise InputError(f'state stride_period_s = {self.stride_period_s} is outside '
-                             '[0.1, 10] s')
+        check_range('state stride_period_s', self.stride_period_s, 0.1, 10.0)
         if len(self.stair_fixes) > MAX_STAIR_FIXES or not all(
                 isinstance(v, int) and not isinstance(v, bool) for v in self.stair_fixes):
             raise InputError(f'state stair_fixes must be at most {MAX_STAIR_FIXES} integers '
                              '(cycle stamps, ns)')
-        if not (0.0 <= self.pos_sigma_m <= 1e4 and 0.0 <= self.yaw_sigma_rad <= 10.0):
-            raise InputError(f'state pos_sigma_m = {self.pos_sigma_m}, yaw_sigma_rad = '
-                             f'{self.yaw_sigma_rad}: outside [0, 1e4] m, [0, 10] rad')
+        check_range('state pos_sigma_m', self.pos_sigma_m, 0.0, 1e4)
+        check_range('state yaw_sigma_rad', self.yaw_sigma_rad, 0.0, 10.0)
 
 
 @dataclass(frozen=True)
@@ -208,9 +206,8 @@ class ElevationState:
     def __post_init__(self):
         _check_fields(self)
         _check_walk_id(self.walk_id)
-        if not 0.10 <= self.step_height_m <= 0.25 or self.riser_strides < 0:
-            raise InputError(f'state step_height_m = {self.step_height_m} (riser_strides '
-                             f'{self.riser_strides}) is not a riser height in [0.10, 0.25] m')
+        check_range('state step_height_m', self.step_height_m, 0.10, 0.25)
+        check_range('state riser_strides', self.riser_strides, 0, math.inf)
         if self.last_mode not in (-1, 0, 1) or not 0.0 <= self.last_abs_dh_m <= 10.0 \
                 or len(self.floor_doubt) > 500 or not 0.0 <= self.floor_doubt_reach_m <= 1e4:
             raise InputError(f'state last_mode = {self.last_mode}, last_abs_dh_m = '

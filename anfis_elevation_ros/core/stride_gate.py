@@ -43,8 +43,8 @@ import math
 
 import numpy as np
 
-from .errors import InputError
 from .jit import jit
+from .validation import check_range
 
 # Layout of the gate's state array:
 ARMED, SWING_SAMPLES, RUN_MIN, MIN_AGE, SINCE_ONSET, PERIOD_S, SINCE_STANCE, LAST_GAIT, \
@@ -104,9 +104,7 @@ class StrideGateParams:
                                 ('max_period_s', self.min_period_s, 10.0),
                                 ('max_break_s', 0.0, 1.0), ('current_factor', 1.0, 1e6),
                                 ('relaxed_sigma_mps', 1e-4, 10.0)):
-            value = getattr(self, name)
-            if not low <= value <= high:
-                raise InputError(f'stride gate {name} = {value} is outside [{low}, {high}]')
+            check_range(f'stride gate {name}', getattr(self, name), low, high)
 
     def config(self, rate_hz: float) -> np.ndarray:
         """Return the settings array of ``stride_gate_update`` at a sample rate."""

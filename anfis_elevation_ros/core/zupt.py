@@ -40,9 +40,9 @@ import math
 
 import numpy as np
 
-from .errors import InputError
 from .frames import GRAVITY_MPS2
 from .jit import jit
+from .validation import check_range
 
 REBUILD_SAMPLES = 256
 """About how often ShoeDetector recomputes its running sums from its buffer, samples."""
@@ -93,17 +93,17 @@ class ZuptParams:
     intensity_blocks: int = 5
 
     def __post_init__(self):
-        _check_range('window_s', self.window_s, 0.005, 0.5)
-        _check_range('threshold', self.threshold, 1.0, 1e12)
-        _check_range('sigma_acc_mps2', self.sigma_acc_mps2, 1e-5, 10.0)
-        _check_range('sigma_gyr_rps', self.sigma_gyr_rps, 1e-6, 1.0)
-        _check_range('ref_peak_gyr_rps', self.ref_peak_gyr_rps, 0.5, 30.0)
-        _check_range('intensity_exponent', self.intensity_exponent, 0.0, 10.0)
-        _check_range('min_threshold', self.min_threshold, 1.0, self.max_threshold)
-        _check_range('max_threshold', self.max_threshold, self.min_threshold, 1e13)
-        _check_range('min_stance_s', self.min_stance_s, 0.0, 0.5)
-        _check_range('intensity_block_s', self.intensity_block_s, 0.2, 10.0)
-        _check_range('intensity_blocks', self.intensity_blocks, 1, 60)
+        check_range('window_s', self.window_s, 0.005, 0.5)
+        check_range('threshold', self.threshold, 1.0, 1e12)
+        check_range('sigma_acc_mps2', self.sigma_acc_mps2, 1e-5, 10.0)
+        check_range('sigma_gyr_rps', self.sigma_gyr_rps, 1e-6, 1.0)
+        check_range('ref_peak_gyr_rps', self.ref_peak_gyr_rps, 0.5, 30.0)
+        check_range('intensity_exponent', self.intensity_exponent, 0.0, 10.0)
+        check_range('min_threshold', self.min_threshold, 1.0, self.max_threshold)
+        check_range('max_threshold', self.max_threshold, self.min_threshold, 1e13)
+        check_range('min_stance_s', self.min_stance_s, 0.0, 0.5)
+        check_range('intensity_block_s', self.intensity_block_s, 0.2, 10.0)
+        check_range('intensity_blocks', self.intensity_blocks, 1, 60)
 
     def window_samples(self, rate_hz: float) -> int:
         """Window length W in samples at a sample rate."""
@@ -117,11 +117,6 @@ class ZuptParams:
         """Return the arguments of ``adaptive_threshold`` after the intensity, in order."""
         return (self.threshold, self.ref_peak_gyr_rps, self.intensity_exponent,
                 self.min_threshold, self.max_threshold)
-
-
-def _check_range(name, value, low, high):
-    if not low <= value <= high:
-        raise InputError(f'{name} = {value} is outside [{low}, {high}]')
 
 
 def shoe_statistic(acc_b: np.ndarray, gyr_b: np.ndarray, sigma_acc_mps2: float,

@@ -34,8 +34,9 @@ import math
 
 import numpy as np
 
-from .plan import check_range, DEG
+from .plan import DEG
 from ..core.errors import InputError
+from ..core.validation import check_range
 
 _G0 = 9.80665  # for units given in g (mg, ug), independent of the simulated gravity
 
@@ -89,13 +90,13 @@ class ImuErrorModel:
         if not isinstance(self.interval_mean, bool):
             raise InputError(f'ImuErrorModel.interval_mean={self.interval_mean!r} must be a bool')
         for field in fields(self):
-            value = getattr(self, field.name)
-            if field.name not in ('name', 'interval_mean') and not value >= 0:
-                raise InputError(f'ImuErrorModel.{field.name}={value} must be >= 0')
+            if field.name not in ('name', 'interval_mean'):
+                check_range(f'ImuErrorModel.{field.name}', getattr(self, field.name), 0.0,
+                            math.inf)
         check_range('ImuErrorModel.gyr_range_rps', self.gyr_range_rps, 1e-3, math.inf)
         check_range('ImuErrorModel.acc_range_mps2', self.acc_range_mps2, 1e-3, math.inf)
-        if self.adc_bits and not 8 <= self.adc_bits <= 32:
-            raise InputError(f'ImuErrorModel.adc_bits={self.adc_bits} must be 0 (none) or 8..32')
+        if self.adc_bits:
+            check_range('ImuErrorModel.adc_bits', self.adc_bits, 8, 32, note='or 0: none')
         if self.adc_bits and not (math.isfinite(self.gyr_range_rps)
                                   and math.isfinite(self.acc_range_mps2)):
             raise InputError('ImuErrorModel.adc_bits needs finite gyr_range_rps and '

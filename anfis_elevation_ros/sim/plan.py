@@ -15,14 +15,14 @@
 """
 The walk plan: segments of a walk and the ranges of the gait values drawn for each stride.
 
-Public API: ``Segment``, ``GaitParams``, ``check_range``, ``EPOCH_NS`` and the default stand
-times.
+Public API: ``Segment``, ``GaitParams``, ``EPOCH_NS`` and the default stand times.
 """
 
 from dataclasses import dataclass, fields
 import math
 
 from ..core.errors import InputError
+from ..core.validation import check_range
 
 EPOCH_NS = 1_700_000_000_000_000_000  # stamp of the first sample, ns (2023-11-14T22:13:20Z)
 DEFAULT_INITIAL_STAND_S = 3.0  # at rest before the first stride: the navigator levels itself
@@ -30,13 +30,6 @@ DEFAULT_FINAL_STAND_S = 2.0
 MIN_INITIAL_STAND_S = 2.0
 SEGMENT_KINDS = ('level', 'stairs', 'turn', 'stand')
 DEG = math.pi / 180.0
-
-
-def check_range(name: str, value, low, high, allowed: str | None = None):
-    """Raise InputError naming the parameter unless low <= value <= high."""
-    if not (low <= value <= high):
-        raise InputError(f'{name}={value} is out of range; allowed: '
-                         f'{allowed or f"{low} <= {name} <= {high}"}')
 
 
 @dataclass(frozen=True)
@@ -79,8 +72,8 @@ class Segment:
             check_range('Segment.n_strides', self.n_strides, 1, 100_000)
             if self.stride_length_m is not None:
                 check_range('Segment.stride_length_m', self.stride_length_m, 0.2, 2.5)
-            check_range('Segment.turn_deg', abs(self.turn_deg), 0.0, 120.0 * self.n_strides,
-                        'abs(turn_deg) <= 120 deg per stride')
+            check_range('Segment abs(turn_deg)', abs(self.turn_deg), 0.0,
+                        120.0 * self.n_strides, note='at most 120 deg per stride')
         elif self.kind == 'stairs':
             check_range('Segment.n_steps', self.n_steps, 1, 1000)
             if self.direction not in (-1, 1):
@@ -91,7 +84,7 @@ class Segment:
                 check_range('Segment.step_height_m', self.step_height_m, 0.05, 0.30)
             check_range('Segment.tread_m', self.tread_m, 0.15, 0.50)
         elif self.kind == 'turn':
-            check_range('Segment.turn_deg', abs(self.turn_deg), 1.0, 720.0)
+            check_range('Segment abs(turn_deg)', abs(self.turn_deg), 1.0, 720.0)
         else:
             check_range('Segment.duration_s', self.duration_s, 0.01, 1e6)
 
@@ -186,5 +179,5 @@ class GaitParams:
             self.stair_stride_base_s[0] + self.stair_stride_per_step_s[0])
         check_range('GaitParams 2 * impact_s[1] + foot_flat_s[1]',
                     2.0 * self.impact_s[1] + self.foot_flat_s[1], 0.0, 0.5 * shortest_swing_s,
-                    f'at most half the shortest swing ({shortest_swing_s:.3f} s), so that '
+                    note=f'at most half the shortest swing ({shortest_swing_s:.3f} s), so that '
                     'the touch-down fits in every swing')

@@ -27,9 +27,9 @@ from typing import NamedTuple
 import numpy as np
 
 from .motion import draw_uniform, segment_strides
-from .plan import check_range, DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, GaitParams
-from .plan import Segment
+from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, GaitParams, Segment
 from ..core.errors import InputError
+from ..core.validation import check_range
 
 
 def nominal_duration_s(segments, gait: GaitParams = GaitParams(),

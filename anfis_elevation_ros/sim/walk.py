@@ -29,11 +29,12 @@ import numpy as np
 from .imu_errors import apply_imu_errors, imu_error_model, ImuErrorModel
 from .motion import body_rate_from_euler_zyx, euler_zyx_to_dcm, euler_zyx_to_quat
 from .motion import knot_profile, plan_strides, quat_multiply_batch, specific_force_b
-from .plan import check_range, DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, DEG, EPOCH_NS
+from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, DEG, EPOCH_NS
 from .plan import GaitParams, MIN_INITIAL_STAND_S, Segment
 from ..core.errors import InputError
 from ..core.frames import GRAVITY_MPS2, rpy_to_dcm
 from ..core.imu_data import ImuRecording
+from ..core.validation import check_range
 
 
 @dataclass(frozen=True)

@@ -48,6 +48,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.imu_data import ImuRecording
 from ..core.units import check_si_units
+from ..core.validation import check_positive, check_range
 
 STANDARD_GRAVITY_MPS2 = 9.80665
 #: Nanoseconds per unit of the time column.
@@ -90,8 +91,8 @@ class CsvImuFormat:
                 raise InputError(f'{field} must name 3 columns (x, y, z), got {value!r}')
         if (self.time_col is None) == (self.rate_hz is None):
             raise InputError('give exactly one of time_col (--time-col) and rate_hz (--rate-hz)')
-        if self.rate_hz is not None and not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
-            raise InputError(f'rate_hz must be a positive number of Hz, got {self.rate_hz!r}')
+        if self.rate_hz is not None:
+            check_positive('rate_hz', self.rate_hz)
         for field, value, allowed in (('time_unit', self.time_unit, TIME_UNITS_NS),
                                       ('acc_unit', self.acc_unit, ACC_UNITS),
                                       ('gyr_unit', self.gyr_unit, GYR_UNITS)):
@@ -99,8 +100,7 @@ class CsvImuFormat:
                 raise InputError(f'{field} must be one of {", ".join(allowed)}, got {value!r}')
         if len(self.delimiter) != 1:
             raise InputError(f'delimiter must be one character, got {self.delimiter!r}')
-        if self.skip_rows < 0:
-            raise InputError(f'skip_rows must be >= 0, got {self.skip_rows}')
+        check_range('skip_rows', self.skip_rows, 0, math.inf)
         if not self.frame_id:
             raise InputError('frame_id must not be empty')
 

@@ -75,6 +75,7 @@ import functools
 import hashlib
 import io
 import json
+import math
 import os
 from pathlib import Path
 import shlex
@@ -97,6 +98,7 @@ from ..core.gait import feature_index, N_FEATURES, PATENT_FEATURE_NAMES
 from ..core.height import stair_mode
 from ..core.input_gate import GateParams, InputGate
 from ..core.navigator import FootNavigator, NavigatorParams
+from ..core.validation import check_range
 
 PROG = 'python -m anfis_elevation_ros train'
 DEFAULT_COMMAND = (f'{PROG} --sim-seeds 1-40 --hugadb ../shared/data/hugadb --backend forest '
@@ -220,12 +222,9 @@ class LabelRules:
     min_stride_s: float = DEFAULT_MIN_STRIDE_S
 
     def __post_init__(self):
-        if not 0.0 < self.match_tolerance_s <= 1.0:
-            raise InputError(f'match_tolerance_s = {self.match_tolerance_s} is outside (0, 1]')
-        if not 0.5 < self.min_majority <= 1.0:
-            raise InputError(f'min_majority = {self.min_majority} is outside (0.5, 1]')
-        if not 0.0 <= self.min_stride_s <= 1.0:
-            raise InputError(f'min_stride_s = {self.min_stride_s} is outside [0, 1]')
+        check_range('match_tolerance_s', self.match_tolerance_s, 0.0, 1.0, open_low=True)
+        check_range('min_majority', self.min_majority, 0.5, 1.0, open_low=True)
+        check_range('min_stride_s', self.min_stride_s, 0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -748,12 +747,9 @@ class TrainOptions:
     def __post_init__(self):
         if self.backend not in BACKENDS:
             raise InputError(f'backend {self.backend!r} is not one of {sorted(BACKENDS)}')
-        if not 1 <= self.epochs <= 1000:
-            raise InputError(f'epochs = {self.epochs} is outside [1, 1000]')
-        if not 0.0 <= self.range_quantile < 0.5:
-            raise InputError(f'range_quantile = {self.range_quantile} is outside [0, 0.5)')
-        if not self.ridge >= 0.0:
-            raise InputError(f'ridge = {self.ridge} must be >= 0')
+        check_range('epochs', self.epochs, 1, 1000)
+        check_range('range_quantile', self.range_quantile, 0.0, 0.5, open_high=True)
+        check_range('ridge', self.ridge, 0.0, math.inf)
 
 
 def input_universe(features: np.ndarray, quantile: float) -> np.ndarray:

@@ -32,6 +32,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.forest import Forest
 from ..core.gait import feature_index, FEATURE_NAMES
+from ..core.validation import check_range
 
 FOREST_FEATURE_NAMES = FEATURE_NAMES
 """Every gait-cycle feature: seed 001's twelve and eq. (8), (9), (11), (12)."""
@@ -54,13 +55,9 @@ class ForestOptions:
     seed: int = 0
 
     def __post_init__(self):
-        if not 1 <= self.n_trees <= 1000:
-            raise InputError(f'forest n_trees = {self.n_trees} is outside [1, 1000]')
-        if not 0.0 < self.max_features <= 1.0:
-            raise InputError(f'forest max_features = {self.max_features} is outside (0, 1]')
-        if not 1 <= self.min_samples_leaf <= 1000:
-            raise InputError(f'forest min_samples_leaf = {self.min_samples_leaf} is outside '
-                             '[1, 1000]')
+        check_range('forest n_trees', self.n_trees, 1, 1000)
+        check_range('forest max_features', self.max_features, 0.0, 1.0, open_low=True)
+        check_range('forest min_samples_leaf', self.min_samples_leaf, 1, 1000)
         if self.class_weight not in ('balanced', 'none'):
             raise InputError(f"forest class_weight = {self.class_weight!r} is not 'balanced' or "
                              "'none'")
