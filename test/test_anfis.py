@@ -17,7 +17,7 @@
 import json
 
 from anfis_elevation_ros import Anfis
-from anfis_elevation_ros.core import anfis as anfis_module
+from anfis_elevation_ros.core import anfis_learning
 from anfis_elevation_ros.core.anfis import (
     firing_strengths, gbell_membership, gradient_step, grid_partition, grid_rule_indices,
     membership_grades, normalised_firing_strengths, premise_gradient, project_mf_params,
@@ -121,7 +121,7 @@ def test_normal_equations_equal_the_explicit_design_matrix_product(mf):
     wbar, _ = normalised_firing_strengths(firing_strengths(membership_grades(x, params, mf)))
     x_ext = np.c_[x, np.ones(700)]
     design = (wbar[:, :, None] * x_ext[:, None, :]).reshape(700, -1)
-    normal, rhs = anfis_module._normal_equations(wbar, x_ext, y)
+    normal, rhs = anfis_learning._normal_equations(wbar, x_ext, y)
     # Same sums in another order: rounding only (entries are O(100), float eps 2e-16).
     np.testing.assert_allclose(normal, design.T @ design, rtol=0.0, atol=1e-12)
     np.testing.assert_allclose(rhs, design.T @ y, rtol=0.0, atol=1e-12)
