@@ -97,6 +97,34 @@ def test_zupt_update_is_the_textbook_joseph_form():
     assert nis == pytest.approx(vel @ np.linalg.solve(S, vel), rel=1e-12)
 
 
+def test_zaru_update_measures_the_bias_and_takes_back_the_yaw_it_turned():
+    """
+    Check a ZARU against a hand-computed case.
+
+    The foot stood T = 2 s with an unknown z-bias error, so yaw and bias are correlated as the
+    prediction makes them (dphi_z = -T dbg_z): P_yy = T^2 p, P_yb = -T p.
+    """
+    p, T, sigma = 1e-4, 2.0, 0.01
+    yaw, bias_z = ekf.ATT.start + 2, ekf.GYR_BIAS.start + 2
+    P = np.diag(np.full(15, p))
+    P[yaw, yaw], P[yaw, bias_z] = T * T * p + 1e-6, -T * p
+    P[bias_z, yaw] = P[yaw, bias_z]
+    gyr, bias = np.array([0.01, -0.02, 0.03]), np.array([0.0, 0.0, 0.01])
+    dx, P_new, nis = ekf.zaru_correction(P, gyr, bias, sigma)
+    gain = p / (p + sigma ** 2)
+    y = gyr - bias
+    assert dx[ekf.GYR_BIAS] == pytest.approx(gain * y)
+    assert dx[yaw] == pytest.approx(-T * p / (p + sigma ** 2) * y[2])   # the yaw turned back
+    assert np.all(dx[:ekf.ATT.start + 2] == 0.0)
+    assert np.diag(P_new)[ekf.GYR_BIAS] == pytest.approx(np.full(3, p * (1.0 - gain)))
+    assert nis == pytest.approx(y @ y / (p + sigma ** 2))
+    H = np.zeros((3, 15))
+    H[:, ekf.GYR_BIAS] = np.eye(3)
+    S = H @ P @ H.T + sigma ** 2 * np.eye(3)
+    K = P @ H.T @ np.linalg.inv(S)
+    assert np.allclose(P_new, P - K @ S @ K.T, rtol=0.0, atol=1e-15)
+
+
 def test_covariance_prediction_equals_the_dense_products():
     """The zero-skipping products give Phi P Phi^T + Q of the full matrices."""
     rng = np.random.default_rng(6)

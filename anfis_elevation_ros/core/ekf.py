@@ -205,13 +205,8 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
     """
     Zero-velocity update, eq. (7).
 
-    z = 0 - v_n (innovation, since the true velocity is zero), H = [0 I 0 0 0],
-    K = P H^T (H P H^T + R)^-1, dx = K z, P+ = (I - K H) P (I - K H)^T + K R K^T (Joseph form,
-    which keeps P symmetric positive definite in floating point).
-
-    H only selects the velocity block, so P H^T = P[:, dV] and the Joseph form is computed as
-    two rank-3 updates, A = P - K P[dV, :], P+ = A - (A[:, dV] - K R) K^T (R = sigma^2 I),
-    instead of two 15 x 15 products; the result is symmetrised against rounding.
+    z = 0 - v_n (innovation, since the true velocity is zero), H = [0 I 0 0 0], R = sigma^2 I;
+    solved by ``block_correction``.
 
     Parameters
     ----------
@@ -228,12 +223,63 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
     nis : normalised innovation squared z^T S^-1 z (chi-square, 3 dof, if the model holds).
 
     """
-    variance = zupt_sigma_mps ** 2
-    S_inv = _inverse_3x3(P[VEL, VEL] + variance * _I3)
-    K = mat_mul(P[:, VEL], S_inv)
-    innovation = -vel_n
-    A = P - mat_mul(K, P[VEL, :])
-    P = A - mat_mul(A[:, VEL] - variance * K, K.T)
+    return block_correction(P, -vel_n, VEL.start, zupt_sigma_mps ** 2)
+
+
+@jit
+def zaru_correction(P: np.ndarray, gyr_b: np.ndarray, gyr_bias_b: np.ndarray,
+                    zaru_sigma_rps: float):
+    """
+    Zero angular rate update at a still stance sample (ZARU, Skog et al. 2014).
+
+    A foot at rest does not turn, so the gyro reads its bias plus noise, w_m = b_g + n:
+    y = w_m - b_g (innovation), H = [0 0 0 0 I], R = sigma^2 I; solved by ``block_correction``.
+    Through the covariance of heading with gyro bias (dphi' = -C_nb dbg, eq. 5), the yaw
+    that a wrong bias turned while the foot stood is taken back with the bias.
+
+    Parameters
+    ----------
+    P : (15, 15) array
+        Predicted covariance.
+    gyr_b : (3,) array
+        Measured angular rate, rad/s.
+    gyr_bias_b : (3,) array
+        Estimated gyro bias, rad/s.
+    zaru_sigma_rps : float
+        Measurement noise standard deviation (a standing foot sways), R = sigma^2 I.
+
+    Returns
+    -------
+    dx, P, nis as ``block_correction``.
+
+    """
+    return block_correction(P, gyr_b - gyr_bias_b, GYR_BIAS.start, zaru_sigma_rps ** 2)
+
+
+@jit
+def block_correction(P: np.ndarray, innovation: np.ndarray, start: int, variance: float):
+    """
+    Kalman update by a measurement of one 3-state block of the error state, Joseph form.
+
+    H = [0 .. I3 .. 0] (the block at ``start``), R = r I3:
+    S = H P H^T + R, K = P H^T S^-1, dx = K y, P+ = (I - K H) P (I - K H)^T + K R K^T (Joseph
+    form, which keeps P symmetric positive definite in floating point).
+
+    H only selects the block B, so P H^T = P[:, B] and the Joseph form is computed as two
+    rank-3 updates, A = P - K P[B, :], P+ = A - (A[:, B] - K R) K^T, instead of two 15 x 15
+    products; the result is symmetrised against rounding.
+
+    Returns
+    -------
+    dx : (15,) estimated error state; P : (15, 15) updated covariance;
+    nis : normalised innovation squared y^T S^-1 y (chi-square, 3 dof, if the model holds).
+
+    """
+    block = slice(start, start + 3)
+    S_inv = _inverse_3x3(P[block, block] + variance * _I3)
+    K = mat_mul(P[:, block], S_inv)
+    A = P - mat_mul(K, P[block, :])
+    P = A - mat_mul(A[:, block] - variance * K, K.T)
     return (mat_vec(K, innovation), 0.5 * (P + P.T),
             np.sum(innovation * mat_vec(S_inv, innovation)))
 

@@ -28,9 +28,11 @@ a yaw error dphi_z turns the whole track by dphi_z, so y = d - psi_s, H = [0 0 0
 (dphi_z), R = sigma^2. The directions come from the building file (``dominant_directions_deg``),
 or are learned from the walk: the first stride's direction modulo 90 deg.
 
-ZARU, once per stride at the stance that closes it: when the foot is truly still (every |w|
-of the detector window below a bound), the gyro reads its bias: y = mean(w) - b_g,
-H = [0 0 0 0 I3], R = sigma^2 I3.
+ZARU, at every stance sample while the foot stands still (every |w| of the detector window
+below a bound): the gyro reads its bias, y = w - b_g, H = [0 0 0 0 I3], R = sigma^2 I3
+(``ekf.zaru_correction``, applied in the navigator's compiled step; here only its
+parameters). Over a whole stand it learns the bias that the 0.1 s start-up stance of a
+swaying foot gets wrong, and takes back the heading the wrong bias turned meanwhile.
 
 References
 ----------
@@ -67,9 +69,10 @@ class HeadingAidParams:
     hde_sigma_deg : standard deviation of the HDE heading measurement, deg.
     hde_straight_strides : strides before this one whose directions must agree with it within
         the tolerance (a straight walk, not a curve or a slalom).
-    zaru_enabled : apply a zero angular rate update at every still stance.
+    zaru_enabled : apply a zero angular rate update at every still stance sample.
     zaru_max_gyr_rps : the stance is still when no |w| of the detector window exceeds this.
-    zaru_sigma_rps : standard deviation of the ZARU measurement, rad/s.
+    zaru_sigma_rps : standard deviation of the ZARU measurement of one sample, rad/s (a
+        standing foot sways by 1-2 deg/s).
     min_stride_m : shorter strides (turning on the spot) have no direction for HDE.
 
     """
@@ -78,9 +81,9 @@ class HeadingAidParams:
     hde_tolerance_deg: float = 4.0
     hde_sigma_deg: float = 2.0
     hde_straight_strides: int = 2
-    zaru_enabled: bool = False
-    zaru_max_gyr_rps: float = 0.05
-    zaru_sigma_rps: float = math.radians(0.5)
+    zaru_enabled: bool = True
+    zaru_max_gyr_rps: float = 0.02
+    zaru_sigma_rps: float = 0.02
     min_stride_m: float = 0.3
 
     def __post_init__(self):
@@ -130,19 +133,6 @@ def hde_correction(P: np.ndarray, innovation_rad: float, sigma_rad: float):
     return linear_correction(P, H, np.array([innovation_rad]), np.array([[sigma_rad ** 2]]))
 
 
-def zaru_correction(P: np.ndarray, gyr_mean_b: np.ndarray, gyr_bias_b: np.ndarray,
-                    sigma_rps: float):
-    """
-    Zero angular rate update: y = mean(w) - b_g, H = [0 0 0 0 I3], R = sigma^2 I3.
-
-    Returns ``linear_correction``'s (dx, P, nis).
-    """
-    H = np.zeros((3, ekf.N_STATES))
-    H[:, ekf.GYR_BIAS] = np.eye(3)
-    return linear_correction(P, H, np.asarray(gyr_mean_b) - np.asarray(gyr_bias_b),
-                             sigma_rps ** 2 * np.eye(3))
-
-
 def hde_directions_deg(building, in_map_frame: bool):
     """
     Return the building's dominant directions for HDE, or None to learn them from the walk.
@@ -159,9 +149,8 @@ class HeadingAider:
     """
     When and with what the heading aids apply, stride by stride (state: the last stance).
 
-    ``at_stance(pos_n, gyr_window_b, gyr_bias_b, P)`` is called at the stance that closes each
-    stride, with the filter-frame position, the detector window's angular rates and the
-    filter's gyro bias; it returns the (dx, P) of each aid that applies, in order.
+    ``at_stance(pos_n, P)`` is called at the stance that closes each stride, with the
+    filter-frame position; it returns the (dx, P) of HDE when it applies.
     ``directions_rad`` are the dominant directions in the filter frame, or None to learn them
     from the first stride. Counts of applied updates are kept for diagnostics.
     """
@@ -172,22 +161,13 @@ class HeadingAider:
         self.last_pos_n = None
         self.recent_headings_rad = deque(maxlen=params.hde_straight_strides + 1)
         self.hde_updates = 0
-        self.zaru_updates = 0
 
-    def at_stance(self, pos_n, gyr_window_b, gyr_bias_b, P):
-        """Return the list of (dx, P) to apply now, each computed from the previous P."""
-        p = self.params
-        corrections = []
-        if p.zaru_enabled and np.max(np.linalg.norm(gyr_window_b, axis=1)) < p.zaru_max_gyr_rps:
-            dx, P, _ = zaru_correction(P, gyr_window_b.mean(axis=0), gyr_bias_b,
-                                       p.zaru_sigma_rps)
-            corrections.append((dx, P))
-            self.zaru_updates += 1
-        if p.hde_enabled:
-            correction = self._hde(np.array(pos_n[:2], dtype=float), P)
-            if correction is not None:
-                corrections.append(correction)
-        return corrections
+    def at_stance(self, pos_n, P):
+        """Return the list of (dx, P) to apply now (HDE's, when it applies)."""
+        if not self.params.hde_enabled:
+            return []
+        correction = self._hde(np.array(pos_n[:2], dtype=float), P)
+        return [] if correction is None else [correction]
 
     def _hde(self, pos_xy, P):
         last, self.last_pos_n = self.last_pos_n, pos_xy

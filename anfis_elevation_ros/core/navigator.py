@@ -60,7 +60,7 @@ from .stride_gate import stride_gate_update, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .validation import check_range
 from .zupt import adaptive_threshold, GaitIntensity, intensity_update, shoe_update, ShoeDetector
-from .zupt import ZuptParams
+from .zupt import window_is_still, ZuptParams
 
 RATE_ESTIMATE_SAMPLES = 16
 
@@ -71,11 +71,11 @@ Q_NB, VEL_N, POS_N, ACC_BIAS_B, GYR_BIAS_B = (
 N_NOMINAL = 16
 # the navigator's integer state and counters,
 PREV_STAMP_NS, STILL_SAMPLES, MIN_STANCE_SAMPLES, RELEVEL, GAPS, MISSING_SAMPLES, \
-    STANCE_SAMPLES = range(7)
+    STANCE_SAMPLES, ZARU_SAMPLES = range(8)
 # and its real-valued state and settings (THRESHOLD_LAW: the arguments of adaptive_threshold).
 THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL, \
-    GYR_RAIL_NOISE = range(10)
-THRESHOLD_LAW = slice(10, 15)
+    GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA = range(12)
+THRESHOLD_LAW = slice(12, 17)
 GYR_RAIL_FRACTION = 0.99
 """A rate within 1 % of ``gyro_range_rps`` is at the rail (sensors stop a little short)."""
 
@@ -155,6 +155,7 @@ class NavigatorStatus:
     rate_hz: float = 0.0
     samples: int = 0
     stance_samples: int = 0
+    zaru_samples: int = 0
     gaps: int = 0
     missing_samples: int = 0
     cycles: int = 0
@@ -245,6 +246,13 @@ def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial,
         scalars[LAST_NIS] = nis
         q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
             q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
+        # ZARU while the foot stands still (0 disables): the gyro bias from the whole stand.
+        if scalars[ZARU_MAX_GYR] > 0.0 and window_is_still(shoe_samples, scalars[ZARU_MAX_GYR]):
+            counts[ZARU_SAMPLES] += 1
+            dx, P_new, _ = ekf.zaru_correction(P, gyr_b, gyr_bias_b, scalars[ZARU_SIGMA])
+            P[:, :] = P_new
+            q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
+                q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
 
     nominal[Q_NB] = q_nb
     nominal[VEL_N] = vel_n
@@ -328,12 +336,14 @@ class FootNavigator:
         self._scalars = np.zeros(THRESHOLD_LAW.stop)
         self._scalars[THRESHOLD_LAW] = p.zupt.threshold_law()
         self._scalars[[GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL,
-                       GYR_RAIL_NOISE]] = (
+                       GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA]] = (
             p.gravity_mps2, rate_hz, p.max_gap_s, p.gait.max_swing_s, p.ekf.zupt_sigma_mps,
             float(p.zupt.adaptive), GYR_RAIL_FRACTION * p.gyro_range_rps,
-            p.ekf.gyr_rail_noise_rps)
+            p.ekf.gyr_rail_noise_rps,
+            p.heading.zaru_max_gyr_rps if p.heading.zaru_enabled else 0.0,
+            p.heading.zaru_sigma_rps)
         self._scalars[THRESHOLD] = self._current_threshold()
-        self._counts = np.zeros(STANCE_SAMPLES + 1, dtype=np.int64)
+        self._counts = np.zeros(ZARU_SAMPLES + 1, dtype=np.int64)
         self._counts[MIN_STANCE_SAMPLES] = p.zupt.min_stance_samples(rate_hz)
         init_samples = int(round(p.init_stance_s * rate_hz))
         self._rest = deque(maxlen=max(self._detector.window, RATE_ESTIMATE_SAMPLES, init_samples))
@@ -509,8 +519,7 @@ class FootNavigator:
     def _aid_heading(self):
         """Apply the heading aids that hold at this stance (``core/heading_aids.py``)."""
         nominal = self._nominal
-        for dx, P in self._aider.at_stance(nominal[POS_N], self._detector.samples[:, 3:6],
-                                           nominal[GYR_BIAS_B], self._P):
+        for dx, P in self._aider.at_stance(nominal[POS_N], self._P):
             self._apply_correction(dx, P)
 
     def _apply_correction(self, dx, P):
@@ -560,6 +569,7 @@ class FootNavigator:
             status.gaps = int(counts[GAPS])
             status.missing_samples = int(counts[MISSING_SAMPLES])
             status.stance_samples = int(counts[STANCE_SAMPLES])
+            status.zaru_samples = int(counts[ZARU_SAMPLES])
             status.last_nis = float(self._scalars[LAST_NIS])
         return status
 
@@ -581,6 +591,13 @@ class FootNavigator:
                                             self._scalars[THRESHOLD])
         due = [n for n in (needed - still if 0 < still < needed else -1, relaxed) if n > 0]
         return int(min(due)) if due else None
+
+    @property
+    def gyro_bias_b(self) -> np.ndarray:
+        """Return the estimated gyro bias, rad/s, body frame; zeros before start-up."""
+        if not self._status.initialised:
+            return np.zeros(3)
+        return self._nominal[GYR_BIAS_B].copy()
 
     @property
     def heading_rad(self) -> float:

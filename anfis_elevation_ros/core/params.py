@@ -259,11 +259,13 @@ _DOCS = {
     'heading.hde_straight_strides': ('Strides before one whose directions must agree with it '
                                      'within the tolerance for HDE (a straight walk).', 1, 20,
                                      _READ_ONLY),
-    'heading.zaru_enabled': ('Zero angular rate update of the gyro bias at each still stance.',
+    'heading.zaru_enabled': ('Zero angular rate update of the gyro bias at each stance sample '
+                             'while the foot stands still.',
                              None, None, _READ_ONLY),
     'heading.zaru_max_gyr_rps': ('A stance is still for ZARU when no |w| of the detector window '
                                  'exceeds this, rad/s.', 1e-4, 1.0, _READ_ONLY),
-    'heading.zaru_sigma_rps': ('Standard deviation of the ZARU measurement, rad/s.', 1e-6, 1.0,
+    'heading.zaru_sigma_rps': ('Standard deviation of the ZARU measurement of one sample '
+                               '(a standing foot sways), rad/s.', 1e-6, 1.0,
                                _READ_ONLY),
     'heading.min_stride_m': ('Shorter strides have no direction for HDE, m.', 0.05, 2.0,
                              _READ_ONLY),

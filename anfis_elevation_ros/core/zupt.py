@@ -325,6 +325,29 @@ def shoe_update(samples: np.ndarray, sums: np.ndarray, count: np.ndarray, config
     return (acc_term * config[1] + sums[4] * config[2]) / w
 
 
+@jit
+def window_is_still(samples: np.ndarray, max_gyr_rps: float) -> bool:
+    """
+    Return True when no angular rate of the window exceeds the bound: max_j ||w_j|| < w_max.
+
+    The SHOE statistic (eq. 4) lets a walking stance pass while the foot rolls at 0.3-0.9
+    rad/s; a zero angular rate update needs a foot standing still (sway of a few deg/s).
+
+    Parameters
+    ----------
+    samples : (W, 6) array
+        The detector's window of [acc_b, gyr_b] (``shoe_update``'s ring buffer).
+    max_gyr_rps : float
+        The bound w_max, rad/s.
+
+    """
+    bound = max_gyr_rps * max_gyr_rps
+    for j in range(samples.shape[0]):
+        if samples[j, 3] ** 2 + samples[j, 4] ** 2 + samples[j, 5] ** 2 >= bound:
+            return False
+    return True
+
+
 class ShoeDetector:
     """
     Per-sample SHOE detector over a trailing window, eq. (4) from running sums.

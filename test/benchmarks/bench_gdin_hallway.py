@@ -36,9 +36,9 @@ from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_wal
 import numpy as np
 
 ALIGN_STRIDES = 3
-AIDS = {'plain': HeadingAidParams(hde_enabled=False),
+AIDS = {'plain': HeadingAidParams(hde_enabled=False, zaru_enabled=False),
         'zaru': HeadingAidParams(hde_enabled=False, zaru_enabled=True),
-        'hde': HeadingAidParams(hde_enabled=True),
+        'hde': HeadingAidParams(hde_enabled=True, zaru_enabled=False),
         'both': HeadingAidParams(hde_enabled=True, zaru_enabled=True)}
 
 

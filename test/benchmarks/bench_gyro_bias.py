@@ -16,15 +16,18 @@
 Where the z-gyro biases the filter learns on the pyshoe VICON trials come from (issue 14).
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_gyro_bias.py``
-(a script, about 20 s). Per trial, in deg/s: the gyro bias the navigator starts with (the mean
+(a script, about 40 s). Per trial, in deg/s: the gyro bias the navigator starts with (the mean
 rate of its start-up stance, ``init_stance_s``, when no rate in it exceeds ``still_gyr_rps``),
 the bias as the trial's still periods measure it (the mean rate over every 0.5 s window whose
-rates all stay below ``STILL_RPS``), and the bias learned at the end; then the error of the
-trial (``pyshoe_position_error``). One sensor, two sessions (2017-11-22, 2017-11-27): its true
-bias cannot move by degrees per second between trials an hour apart.
+rates all stay below ``STILL_RPS``), and, with the zero angular rate update over still stands
+off and on (``heading.zaru_enabled``), the bias learned at the end and the error of the trial
+(``pyshoe_position_error``); then the errors per session. One sensor, two sessions
+(2017-11-22, 2017-11-27): its true bias cannot move by degrees per second between trials an
+hour apart.
 """
 
-from anfis_elevation_ros.core.navigator import FootNavigator, GYR_BIAS_B
+from anfis_elevation_ros.core.heading_aids import HeadingAidParams
+from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.tools.datasets import dataset_files, load_pyshoe_vicon
 from anfis_elevation_ros.tools.metrics import pyshoe_position_error
 import numpy as np
@@ -42,32 +45,53 @@ def still_bias_dps(stamp_ns, gyr_b):
     return np.degrees(gyr_b[still].mean(axis=0)) if still.any() else np.full(3, np.nan)
 
 
+def run_trial(recording, truth, params):
+    """Return (start-up z bias, learned z bias (deg/s), error m, ZARU samples) of one trial."""
+    navigator = FootNavigator(params)
+    start_bias = None
+    track = []
+    for k in range(len(recording)):
+        out = navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k], recording.gyr_b[k])
+        if out is not None:
+            track.append(out[0].pos_n)
+            if start_bias is None:
+                start_bias = np.degrees(navigator.gyro_bias_b[2])
+    first = len(recording) - len(track)
+    error = pyshoe_position_error(np.array(track), truth[first:])
+    return (start_bias, np.degrees(navigator.gyro_bias_b[2]), error,
+            navigator.status.zaru_samples)
+
+
 def main():
-    print('trial              start-up z  still z  learned z (deg/s)  error m')
-    learned, measured = [], []
+    variants = {'ZARU off': NavigatorParams(heading=HeadingAidParams(zaru_enabled=False)),
+                'ZARU on': NavigatorParams(heading=HeadingAidParams(zaru_enabled=True))}
+    print('trial              start-up z  still z | learned z (deg/s), error m: '
+          + ' | '.join(variants) + ' | ZARU samples')
+    learned = {name: [] for name in variants}
+    errors = {name: {} for name in variants}
+    measured = []
     for path in dataset_files('pyshoe_vicon'):
         recording, truth = load_pyshoe_vicon(path)
-        navigator = FootNavigator()
-        start_bias = None
-        track = []
-        for k in range(len(recording)):
-            out = navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k],
-                                 recording.gyr_b[k])
-            if out is not None:
-                track.append(out[0].pos_n)
-                if start_bias is None:
-                    start_bias = np.degrees(navigator._nominal[GYR_BIAS_B].copy())
-        bias = np.degrees(navigator._nominal[GYR_BIAS_B])
         still = still_bias_dps(recording.stamp_ns, recording.gyr_b)
-        first = len(recording) - len(track)
-        error = pyshoe_position_error(np.array(track), truth[first:])
-        learned.append(bias[2])
         measured.append(still[2])
-        print(f'{path.stem}  {start_bias[2]:+9.2f}  {still[2]:+7.2f}  {bias[2]:+9.2f}'
-              f' {error:7.3f}')
-    learned, measured = np.array(learned), np.array(measured)
-    print(f'z bias learned {learned.min():+.2f} .. {learned.max():+.2f} deg/s; measured still '
-          f'{np.nanmin(measured):+.2f} .. {np.nanmax(measured):+.2f} deg/s')
+        row = []
+        for name, params in variants.items():
+            start_bias, bias, error, zaru = run_trial(recording, truth, params)
+            learned[name].append(bias)
+            errors[name][path.stem] = error
+            row.append(f'{bias:+9.2f} {error:7.3f}')
+        print(f'{path.stem}  {start_bias:+9.2f}  {still[2]:+7.2f} | ' + ' | '.join(row)
+              + f' | {zaru:5d}')
+    measured = np.array(measured)
+    print(f'z bias measured still {np.nanmin(measured):+.2f} .. {np.nanmax(measured):+.2f} deg/s')
+    for name in variants:
+        by_session = {}
+        for stem, error in errors[name].items():
+            by_session.setdefault(stem[:10], []).append(error)
+        sessions = ', '.join(f'{day} median {np.median(e):.3f} m mean {np.mean(e):.3f} m'
+                             for day, e in by_session.items())
+        print(f'{name}: z bias learned {min(learned[name]):+.2f} .. {max(learned[name]):+.2f} '
+              f'deg/s; {sessions}')
 
 
 if __name__ == '__main__':
