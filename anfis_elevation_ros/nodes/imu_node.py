@@ -94,14 +94,14 @@ import sys
 import threading
 import time
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from diagnostic_msgs.msg import DiagnosticArray
 from nav_msgs.msg import Odometry
 import numpy as np
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, PointCloud2
 
-from .diagnostics import diagnostic_status
 from .gait_cycle_msg import cycle_to_msg
+from .imu_diagnostics import input_status, InputPeriod, navigator_status
 from .imu_msg import imu_sample_from_cdr
 from .node_params import declare_node_parameters, LiveParameters
 from .polled_subscription import PolledSubscription
@@ -114,8 +114,7 @@ from ..core.building import load_building_file
 from ..core.errors import InputError
 from ..core.gait import GaitCycle, N_FEATURES
 from ..core.heading_aids import hde_directions_deg
-from ..core.input_gate import FLAG_REASONS, GAP, InputGate, REJECT_REASONS, SATURATED
-from ..core.input_gate import WRONG_UNITS
+from ..core.input_gate import InputGate, WRONG_UNITS
 from ..core.map_frame import map_alignment_for
 from ..core.navigator import compile_navigator, FootNavigator
 from ..core.outage import outage_cycle_count
@@ -126,7 +125,6 @@ from ..core.state import NavigationState, new_walk_id, resumable_state, state_fi
 from ..core.state import walk_continues
 
 REJECT_LOG_PERIOD_S = 5.0
-LOSS_WARN_FRACTION = 0.01   # more lost samples than this (per diagnostics period) is a warning
 STRIDE_PERIODS = 5          # recent cycle periods whose median is the stride period
 MIN_STRIDE_PERIOD_S = 0.1   # periods outside these limits are not strides: the clock went
 MAX_STRIDE_PERIOD_S = 3.0   # back, or the firefighter stopped
@@ -175,8 +173,7 @@ class ImuNode(PersistsState, Node):
         self._malformed = 0
         self._last_point = None
         self._published_points = {}     # publisher -> the point it published last
-        self._period_start = (0, 0, 0, 0, dict(self._gate.rejected), dict(self._gate.flagged))
-        self._period_start_ns = self.get_clock().now().nanoseconds
+        self._input_period = InputPeriod(self._gate, self.get_clock().now().nanoseconds)
         self._imu_topic = self.resolve_topic_name(values['imu_topic'])
         self._full_name = self.get_fully_qualified_name()
         self._persist = values['persist_state']
@@ -455,78 +452,22 @@ class ImuNode(PersistsState, Node):
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the diagnostics since the last call (rates over that period)."""
-        gate, status = self._gate, self._navigator.status
-        received0, samples0, stance0, missing0, rejected0, flagged0 = self._period_start
-        period_s = max(1e-9, (now_ns - self._period_start_ns) * 1e-9)
-        rejected_now = {r: gate.rejected[r] - rejected0.get(r, 0) for r in REJECT_REASONS}
-        flagged_now = {r: gate.flagged[r] - flagged0.get(r, 0) for r in FLAG_REASONS}
-        received_now = self._received - received0
-        samples_now = status.samples - samples0
-        stance_now = status.stance_samples - stance0
-        missing_now = status.missing_samples - missing0
-        loss = missing_now / (samples_now + missing_now) if samples_now + missing_now else 0.0
-        self._period_start = (self._received, status.samples, status.stance_samples,
-                              status.missing_samples, dict(gate.rejected), dict(gate.flagged))
-        self._period_start_ns = now_ns
-
-        hardware_id = self._imu_frame_id or 'imu'
-        if gate.units_latched:
-            level, message = DiagnosticStatus.ERROR, ('IMU data in the wrong units (deg/s or '
-                                                      'mg?): all refused; fix and restart')
-        elif received_now == 0:
-            level, message = DiagnosticStatus.STALE, 'no IMU messages'
-        elif sum(rejected_now.values()):
-            refused = ', '.join(f'{n} {r}' for r, n in rejected_now.items() if n)
-            level, message = DiagnosticStatus.WARN, f'refused: {refused}'
-        elif flagged_now[GAP] or flagged_now[SATURATED] or loss > LOSS_WARN_FRACTION:
-            level, message = DiagnosticStatus.WARN, (f'{100 * loss:.1f} % of samples lost, '
-                                                     f'{flagged_now[GAP]} gaps, '
-                                                     f'{flagged_now[SATURATED]} saturated')
-        else:
-            level, message = DiagnosticStatus.OK, 'ok'
-        # The input topic tells a player which node this is: its first diagnostics say it is ready.
-        values = {'imu_topic': self._imu_topic,
-                  'input_rate_hz': received_now / period_s, 'received': self._received,
-                  'accepted': gate.accepted, 'rejected': gate.rejected_total}
-        values.update({f'rejected_{r}': gate.rejected[r] for r in REJECT_REASONS})
-        values.update({f'{r}_count': gate.flagged[r] for r in FLAG_REASONS})
-        values['missing_samples'] = status.missing_samples
-        values['loss_fraction'] = loss
-        values['malformed'] = self._malformed
-        values['units_latched'] = gate.units_latched
-        values['internal_errors'] = self._internal_errors
-        statuses = [diagnostic_status(f'{self._full_name}: IMU input', level, message, hardware_id,
-                                      values)]
-
-        if self._internal_errors:
-            level, message = DiagnosticStatus.ERROR, f'{self._internal_errors} internal errors'
-        elif self._state_write_errors():
-            level, message = DiagnosticStatus.WARN, (f'{self._state_write_errors()} failed '
-                                                     'state writes')
-        elif self._fixes.late or self._malformed_fixes:
-            level, message = DiagnosticStatus.WARN, (
-                f'stair-entry corrections: {self._fixes.late} late, {self._malformed_fixes} '
-                'malformed')
-        elif not status.initialised:
-            level, message = DiagnosticStatus.WARN, 'waiting for the first stance'
-        else:
-            level, message = DiagnosticStatus.OK, 'navigating'
-        nav_values = {
-            'initialised': status.initialised, 'rate_hz': status.rate_hz,
-            'stance_fraction': stance_now / samples_now if samples_now else 0.0,
-            'samples': status.samples, 'cycles': status.cycles,
-            'invalid_cycles': status.invalid_cycles, 'gaps': status.gaps,
-            'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m,
+        status, hardware_id = self._navigator.status, self._imu_frame_id or 'imu'
+        period = self._input_period.close(now_ns, self._received, self._gate, status)
+        node_values = {
             'resumed': self._resumed, 'resume': self._resume_decision,
             'resume_refusals': self._resume_refusals, 'outage_cycles': self._outage_cycles,
             'state_file': str(self._state_path) if self._persist else '',
             'state_write_errors': self._state_write_errors(), 'frame_id': self._track_frame_id}
         if self._take_fixes:
-            nav_values.update(self._fixes.counters)
-            nav_values['stair_fix_malformed'] = self._malformed_fixes
-        statuses.append(diagnostic_status(f'{self._full_name}: foot navigator', level, message,
-                                          hardware_id, nav_values))
-        msg = DiagnosticArray(status=statuses)
+            node_values.update(self._fixes.counters)
+            node_values['stair_fix_malformed'] = self._malformed_fixes
+        msg = DiagnosticArray(status=[
+            input_status(self._full_name, hardware_id, self._imu_topic, period, self._gate,
+                         status, self._received, self._malformed, self._internal_errors),
+            navigator_status(self._full_name, hardware_id, period, status,
+                             self._internal_errors, self._state_write_errors(),
+                             self._fixes.late, self._malformed_fixes, node_values)])
         msg.header.stamp = ns_to_stamp(now_ns)
         return msg
 
