@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.validation import check_range
 
 MODES = (-1, 0, 1)
 """Stair modes of eq. 13: down, level, up."""
@@ -137,8 +138,7 @@ def majority_labels(start_ns, stamp_ns, sample_stamp_ns, sample_label,
         True where a label was given.
 
     """
-    if not 0.5 < min_fraction <= 1.0:
-        raise InputError(f'min_fraction = {min_fraction} is outside (0.5, 1]')
+    check_range('min_fraction', min_fraction, 0.5, 1.0, open_low=True)
     start_ns = np.asarray(start_ns, dtype=np.int64)
     stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
     sample_stamp_ns = np.asarray(sample_stamp_ns, dtype=np.int64)
