@@ -68,6 +68,14 @@ def test_responders_fields_and_floor_counts():
     assert state['building']['stairs'][0]['direction'] == 1
 
 
+def test_stamps_of_the_latest_message_and_of_the_latest_elevation():
+    incident = Incident(clock=FakeClock())
+    incident.update_elevation('/ff1', 1_000_000_000, 1.0, 2.0, 0.0)
+    incident.update_pose('/ff1', 1_500_000_000, 1.1, 2.0, 0.0, 0.0, 0.5)
+    ff1 = incident.snapshot()['responders'][0]
+    assert (ff1['stamp_unix_s'], ff1['elevation_stamp_unix_s']) == (1.5, 1.0)
+
+
 def test_floor_not_in_the_building_is_listed_and_without_building_the_seen_floors():
     incident = Incident(clock=FakeClock())
     feed(incident, '/ff1', -1)

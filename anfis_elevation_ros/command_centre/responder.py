@@ -126,6 +126,8 @@ class Responder:
             'sigma_xy_m': self.sigma_xy_m,
             'last_update_age_s': round(now - self.last_update, 3),
             'stamp_unix_s': None if self.stamp_ns is None else self.stamp_ns / 1e9,
+            'elevation_stamp_unix_s': (None if self.elevation_stamp_ns is None
+                                       else self.elevation_stamp_ns / 1e9),
             'last_motion_age_s': round(now - self.last_motion, 3),
             'data_quality': self.data_quality,
             'diagnostics': [{'name': name, 'level': QUALITY[level], 'message': message}

@@ -36,6 +36,7 @@ Needs chromium + chromium-driver (apt) and selenium (the ``test`` extra).
 import argparse
 import json
 import math
+import os
 from pathlib import Path
 import signal
 import sys
@@ -44,50 +45,14 @@ import time
 
 from anfis_elevation_ros.command_centre.incident import Incident
 from anfis_elevation_ros.command_centre.web import make_server
-import numpy as np
+from bench_measures import LatencyHistogram, proc_rss_mb
 
 POSE_HZ = 10.0
 TICK_EVERY = 3              # timers at POSE_HZ / 3 (about 3 Hz)
 STILL = 2                   # responders that stand still (man-down alarm)
 WARM_UP_S = 20.0
 SAMPLE_S = 10.0
-BIN_S = 0.001               # latency histogram: fixed memory however long the run
-MAX_LATENCY_S = 30.0
 TOKEN = 'benchmark-token-0123456789'
-
-
-def rss_mb() -> float:
-    """Return this process's resident memory, MB (Linux /proc)."""
-    for line in Path('/proc/self/status').read_text().splitlines():
-        if line.startswith('VmRSS:'):
-            return int(line.split()[1]) / 1024.0
-    return math.nan
-
-
-class LatencyHistogram:
-    """Counts of latencies in BIN_S bins (the last one: MAX_LATENCY_S and over)."""
-
-    def __init__(self):
-        self.counts = np.zeros(int(MAX_LATENCY_S / BIN_S) + 1, dtype=np.int64)
-        self.max_s = 0.0
-
-    def add(self, latencies_s) -> None:
-        """Count a batch of latencies, s."""
-        values = np.asarray(latencies_s, dtype=float)
-        if values.size:
-            bins = np.clip((values / BIN_S).astype(int), 0, self.counts.size - 1)
-            np.add.at(self.counts, bins, 1)
-            self.max_s = max(self.max_s, float(values.max()))
-
-    @property
-    def size(self) -> int:
-        """Return the number of latencies counted."""
-        return int(self.counts.sum())
-
-    def percentile(self, q: float) -> float:
-        """Return the upper edge of the bin holding the q-th percentile, s."""
-        rank = np.searchsorted(np.cumsum(self.counts), q / 100.0 * self.size)
-        return (rank + 1) * BIN_S
 
 
 def feed(incident, responders: int, stop: threading.Event) -> None:
@@ -164,7 +129,8 @@ def main():
             latencies.add(batch)
             cpu = 100.0 * (time.process_time() - cpu0) / (now - wall0)
             page_mb = None if heap is None else round(heap / 2 ** 20, 1)
-            samples.append({'t_s': round(now - start), 'rss_mb': round(rss_mb(), 1),
+            rss = round(proc_rss_mb(os.getpid()), 1)
+            samples.append({'t_s': round(now - start), 'rss_mb': rss,
                             'page_js_heap_mb': page_mb, 'cpu_percent_so_far': round(cpu, 1)})
             print(f't {now - start:6.0f} s  RSS {samples[-1]["rss_mb"]:7.1f} MB  page JS heap '
                   f'{page_mb} MB  CPU {cpu:5.1f} % of one core  updates seen {latencies.size}',

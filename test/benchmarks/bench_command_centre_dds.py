@@ -16,20 +16,23 @@
 Benchmark of the command centre over DDS: N fake responders into the ``command-centre`` process.
 
 Run from the repository root: ``python test/benchmarks/bench_command_centre_dds.py [--minutes
-2] [--responders 50] [--track-hz 10] [--centre-track-hz 2]`` (a script, not a test). This
-process publishes, for each responder ``/bK`` as ``run --namespace /bK`` does, ``foot_odom`` at
-``--track-hz`` (the IMU node's ``track_rate_hz``, 10 Hz by default), ``foot_odom_throttle`` at
-``--centre-track-hz`` (``centre_track_rate_hz``, 2 Hz; what the centre subscribes) and, once a
-second,
-``elevation``, ``floor``, ``floor_certain``, ``stair_mode`` and a ``/diagnostics`` array; the
-``command-centre`` subprocess discovers them, subscribes and feeds its Incident, and this
-process reads its push stream (``/api/events``). After a warm-up it prints:
+2] [--responders 50] [--track-hz 10] [--centre-track-hz 2] [--browser] [--json FILE]`` (a
+script, not a test). This process publishes, for each responder ``/bK`` as ``run --namespace
+/bK`` does, ``foot_odom`` at ``--track-hz`` (the IMU node's ``track_rate_hz``, 10 Hz by
+default), ``foot_odom_throttle`` at ``--centre-track-hz`` (``centre_track_rate_hz``, 2 Hz; what
+the centre subscribes) and, once a second, ``elevation``, ``floor``, ``floor_certain``,
+``stair_mode`` and a ``/diagnostics`` array, each stamped with the wall clock when published;
+the ``command-centre`` subprocess discovers them, subscribes and feeds its Incident; this
+process reads its push stream (``/api/events``) and, with ``--browser``, keeps the page open
+in headless chromium (chromium + chromium-driver from apt, selenium from the ``test`` extra).
+After a warm-up it prints, sampling every 10 s:
 
 - CPU of the command-centre process (node, DDS, model, web server), % of one core, from
   /proc/<pid>/stat;
-- latency from a pose's publication (its stamp, wall clock) to its first appearance in the
-  push stream (p50, p99, max); the page's render adds its own (bench_command_centre.py);
-- the command centre's resident memory at the start and the end of the measurement.
+- its resident memory at every sample (first, last, max: flat = no growth);
+- latency from a message's publication (its stamp) to its first appearance in the push
+  stream, and with ``--browser`` to the end of the page's render that showed it, for every
+  new stamp (poses and elevations) and for ``elevation`` messages alone (p50, p99, max).
 
 DDS discovery stays on this machine (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST unless set).
 """
@@ -46,25 +49,11 @@ import threading
 import time
 import urllib.request
 
-import numpy as np
+from bench_measures import LatencyHistogram, proc_cpu_s, proc_rss_mb
 
 TICK_HZ = 10                     # the publisher's timer: poses at up to this rate
 WARM_UP_S = 30.0
-TICKS_PER_S = os.sysconf('SC_CLK_TCK')
-
-
-def proc_cpu_s(pid: int) -> float:
-    """Return user + system CPU time of a process, s (Linux /proc)."""
-    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / TICKS_PER_S
-
-
-def proc_rss_mb(pid: int) -> float:
-    """Return the resident memory of a process, MB."""
-    for line in Path(f'/proc/{pid}/status').read_text().splitlines():
-        if line.startswith('VmRSS:'):
-            return int(line.split()[1]) / 1024.0
-    return math.nan
+SAMPLE_S = 10.0
 
 
 class FakeResponders:
@@ -151,6 +140,30 @@ class PushLatency:
                     self.latencies.append(now - stamp)
 
 
+def open_page(url: str):
+    """Open the command centre's page in headless chromium; return (driver, profile)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from browser_support import start_chromium, why_no_browser
+    if why_no_browser():
+        sys.exit(f'cannot run --browser: {why_no_browser()}')
+    driver, profile = start_chromium()
+    driver.get(url)
+    return driver, profile
+
+
+def take_page_latencies(driver) -> tuple:
+    """Return and empty the page's probes: (every new stamp, elevation stamps), s."""
+    return driver.execute_script(
+        'const p = window.commandCentre; '
+        'return [p.latencies.splice(0), p.elevationLatencies.splice(0)];')
+
+
+def print_latency(what: str, summary: dict) -> None:
+    """Print one latency line."""
+    print(f'{what}: p50 {summary["p50"]:.3f} s, p99 {summary["p99"]:.3f} s, max '
+          f'{summary["max"]:.3f} s over {summary["count"]} messages')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--minutes', type=float, default=2.0, help='length of the measurement')
@@ -160,6 +173,9 @@ def main():
     parser.add_argument('--centre-track-hz', type=float, default=2.0,
                         choices=(10.0, 5.0, 2.0, 1.0),
                         help="rate of each responder's foot_odom_throttle (centre_track_rate_hz)")
+    parser.add_argument('--browser', action='store_true',
+                        help='also keep the page open in headless chromium and time its updates')
+    parser.add_argument('--json', type=Path, help='also write the figures to this file')
     args = parser.parse_args()
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 
@@ -179,33 +195,82 @@ def main():
     executor.add_node(node)
     spinning = threading.Thread(target=executor.spin, daemon=True)
     spinning.start()
+    driver = profile = None
+    page, page_elevation, samples = LatencyHistogram(), LatencyHistogram(), []
+    signal.signal(signal.SIGTERM, signal.default_int_handler)   # stop early, still report
     try:
         push = PushLatency(url)
+        if args.browser:
+            driver, profile = open_page(url)
         time.sleep(WARM_UP_S)
+        if driver:
+            take_page_latencies(driver)
         push.recording = True
-        cpu0, wall0, rss0 = proc_cpu_s(pid), time.monotonic(), proc_rss_mb(pid)
-        time.sleep(args.minutes * 60.0)
-        cpu1, wall1, rss1 = proc_cpu_s(pid), time.monotonic(), proc_rss_mb(pid)
+        cpu0, wall0 = proc_cpu_s(pid), time.monotonic()
+        end = wall0 + 60.0 * args.minutes
+        while time.monotonic() < end:
+            try:
+                time.sleep(min(SAMPLE_S, max(0.0, end - time.monotonic())))
+            except KeyboardInterrupt:
+                print('stopped early', flush=True)
+                break
+            if driver:
+                every, elevation = take_page_latencies(driver)
+                page.add(every)
+                page_elevation.add(elevation)
+            now = time.monotonic()
+            samples.append({'t_s': round(now - wall0), 'rss_mb': round(proc_rss_mb(pid), 1),
+                            'cpu_percent_so_far': round(
+                                100.0 * (proc_cpu_s(pid) - cpu0) / (now - wall0), 1),
+                            'load_average': os.getloadavg()[0]})
+            print(f't {samples[-1]["t_s"]:6d} s  command-centre RSS {samples[-1]["rss_mb"]:6.1f} '
+                  f'MB  CPU {samples[-1]["cpu_percent_so_far"]:5.1f} % of one core  page '
+                  f'updates {page.size}, elevation {page_elevation.size}  load average '
+                  f'{samples[-1]["load_average"]:.1f}', flush=True)
         push.recording = False
-        latencies = np.array(push.latencies)
+        renders = driver.execute_script('return window.commandCentre.renders;') if driver \
+            else None
         state = json.load(urllib.request.urlopen(url + 'api/state', timeout=30))
-        print(f'{args.responders} responders over DDS, foot_odom at {args.track_hz:g} Hz, '
-              f'foot_odom_throttle at {args.centre_track_hz:g} Hz, {args.minutes:g} min after a '
-              f'{WARM_UP_S:g} s warm-up; {len(state["responders"])} on the map')
-        print(f'command-centre CPU {100 * (cpu1 - cpu0) / (wall1 - wall0):.1f} % of one core; '
-              f'RSS {rss0:.1f} -> {rss1:.1f} MB')
-        if len(latencies):
-            p50, p99 = np.percentile(latencies, [50, 99])
-            print(f'pose publication -> push stream: p50 {p50:.3f} s, p99 {p99:.3f} s, max '
-                  f'{latencies.max():.3f} s over {len(latencies)} poses '
-                  f'(load average {os.getloadavg()[0]:.1f})')
     finally:
+        if driver:
+            from browser_support import stop_chromium
+            stop_chromium(driver, profile)
         executor.shutdown()
         spinning.join(timeout=10.0)     # destroying the node under a spinning executor raises
         node.destroy_node()
         rclpy.try_shutdown()
         centre.send_signal(signal.SIGINT)
         centre.wait(timeout=30)
+    if not samples:
+        sys.exit('no measurement: run longer (--minutes)')
+    pushed = LatencyHistogram()
+    pushed.add(push.latencies)
+    rss = [s['rss_mb'] for s in samples]
+    figures = {
+        'responders': args.responders, 'minutes': samples[-1]['t_s'] / 60.0,
+        'track_hz': args.track_hz, 'centre_track_hz': args.centre_track_hz,
+        'on_the_map': len(state['responders']),
+        'cpu_percent_of_one_core': samples[-1]['cpu_percent_so_far'],
+        'rss_mb': {'first': rss[0], 'last': rss[-1], 'max': max(rss)},
+        'publication_to_push_s': pushed.summary(),
+        'samples': samples,
+    }
+    print(f'{args.responders} responders over DDS, foot_odom at {args.track_hz:g} Hz, '
+          f'foot_odom_throttle at {args.centre_track_hz:g} Hz, {figures["minutes"]:.1f} min '
+          f'after a {WARM_UP_S:g} s warm-up; {figures["on_the_map"]} on the map')
+    print(f'command-centre CPU {figures["cpu_percent_of_one_core"]:.1f} % of one core; RSS '
+          f'{rss[0]:.1f} -> {rss[-1]:.1f} MB (max {max(rss):.1f})')
+    print_latency('publication -> push stream', figures['publication_to_push_s'])
+    if driver:
+        figures['publication_to_page_s'] = page.summary()
+        figures['elevation_publication_to_page_s'] = page_elevation.summary()
+        figures['page_renders'] = renders
+        print_latency('publication -> page rendered (every new stamp)',
+                      figures['publication_to_page_s'])
+        print_latency('elevation publication -> page rendered',
+                      figures['elevation_publication_to_page_s'])
+    if args.json:
+        args.json.write_text(json.dumps(figures, indent=2) + '\n')
 
 
 if __name__ == '__main__':

@@ -21,15 +21,20 @@
     seq: 0, building: null, floors: [], responders: new Map(), log: [], lastLogSeq: 0,
     params: {}, evacuation: null, rollCall: null, trackMax: 600,
   };
-  // Read by the browser tests and the benchmark: latency of each responder update (s, from
-  // its message stamp to the end of the render that showed it) and the number of renders.
-  const probe = { latencies: [], renders: 0, batches: 0, renderSeconds: 0, state: state };
+  // Read by the browser tests and the benchmark: latency of each new responder stamp (s, from
+  // the message stamp to the end of the render that showed it), the same for `elevation`
+  // messages alone, and the number of renders.
+  const probe = {
+    latencies: [], elevationLatencies: [], renders: 0, batches: 0, renderSeconds: 0,
+    state: state,
+  };
   window.commandCentre = probe;
 
   let selectedFloor = null;
   let selectedResponder = null;
   let renderScheduled = false;
   let pendingStamps = [];
+  let pendingElevationStamps = [];
   let audio = null;
   let map = null;
   let layers = null;
@@ -112,9 +117,18 @@
     entry.receivedAt = performance.now();
     entry.dirty = true;
     state.responders.set(entry.id, entry);
-    if (entry.stamp_unix_s !== null && entry.stamp_unix_s !== undefined) {
+    // An entry also comes for a floor, mode, diagnostics or alarm change: only a new stamp
+    // is a message to time.
+    if (isNewStamp(entry.stamp_unix_s, old && old.stamp_unix_s)) {
       pendingStamps.push(entry.stamp_unix_s);
     }
+    if (isNewStamp(entry.elevation_stamp_unix_s, old && old.elevation_stamp_unix_s)) {
+      pendingElevationStamps.push(entry.elevation_stamp_unix_s);
+    }
+  }
+
+  function isNewStamp(stamp, oldStamp) {
+    return stamp !== null && stamp !== undefined && stamp !== oldStamp;
   }
 
   function takeLog(entry) {
@@ -202,13 +216,17 @@
     renderLog();
     renderStatus();
     const now = Date.now() / 1000;
-    pendingStamps.forEach(function (stamp) { probe.latencies.push(now - stamp); });
+    recordLatencies(probe.latencies, pendingStamps, now);
+    recordLatencies(probe.elevationLatencies, pendingElevationStamps, now);
     pendingStamps = [];
-    if (probe.latencies.length > PROBE_POINTS) {
-      probe.latencies.splice(0, probe.latencies.length - PROBE_POINTS);
-    }
+    pendingElevationStamps = [];
     probe.renders += 1;
     probe.renderSeconds += (performance.now() - started) / 1000;
+  }
+
+  function recordLatencies(latencies, stamps, now) {
+    stamps.forEach(function (stamp) { latencies.push(now - stamp); });
+    if (latencies.length > PROBE_POINTS) { latencies.splice(0, latencies.length - PROBE_POINTS); }
   }
 
   function defaultFloor() {
