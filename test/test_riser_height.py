@@ -18,6 +18,7 @@ from anfis_elevation_ros.core.riser_height import allowed_riser_counts, K_GRID_M
 from anfis_elevation_ros.core.riser_height import LevelSlope, log_prior, riser_count_bounds
 from anfis_elevation_ros.core.riser_height import RiserHeightEstimator, stride_log_likelihood
 from anfis_elevation_ros.core.riser_height import StairwellRiserHeights
+from anfis_elevation_ros.core.stair_steps import flight_riser_count
 import numpy as np
 import pytest
 
@@ -107,6 +108,21 @@ def test_riser_count_bounds_follow_the_stride_length():
     assert riser_count_bounds(0.28) == (1, 1)
     for unknown in (None, float('nan'), 5.0, 0.05):
         assert riser_count_bounds(unknown)[0] == 1 and riser_count_bounds(unknown)[1] > 100
+
+
+def test_a_flight_counts_a_sure_height_whatever_the_stride_length_says():
+    # Random walk 11 (tactical): 1-riser strides of 0.166 m, one of which the INS reads 0.46 m
+    # long (bounds (2, 2)); the height is sure, so the flight climbs 6 risers, not 7.
+    k_m = 0.1656
+    lows, highs = zip(*[riser_count_bounds(length) for length in [0.28] * 5 + [0.46]])
+    assert (lows[-1], highs[-1]) == (2, 2)
+    dh = [0.166, 0.165, 0.166, 0.164, 0.166, 0.165]
+    assert flight_riser_count(1, dh, [1] * 6, k_m, lows, highs) == 6
+    # Half a riser off (an INS glitch after a landing turn): the length decides, as before.
+    dh[-1] = 0.25
+    assert flight_riser_count(-1, dh, [1] * 6, k_m, lows, highs) == -7
+    lows, highs = zip(*[riser_count_bounds(0.28)] * 6)
+    assert flight_riser_count(1, dh, [1] * 6, k_m, lows, highs) == 6
 
 
 def test_level_slope_is_the_median_height_per_metre():

@@ -26,7 +26,7 @@ Rounding: :func:`round_half_away` (``core/floors.py``), halves away from zero.
 
 Public API: :func:`stair_mode`, :func:`quantised_step_count`, :func:`quantised_height_step`,
 :func:`flight_riser_count`, :func:`bridged_step_count`, :data:`MODE_UP`, :data:`MODE_LEVEL`,
-:data:`MODE_DOWN`.
+:data:`MODE_DOWN`, :data:`SURE_HEIGHT_RISERS`.
 
 References
 ----------
@@ -42,6 +42,9 @@ from .floors import _int_result, round_half_away
 
 MODE_UP, MODE_LEVEL, MODE_DOWN = 1, 0, -1
 """Values of the stair mode C of eq. 13."""
+
+SURE_HEIGHT_RISERS = 0.25
+"""A stride's height this close to a whole riser count (in risers) is counted as it says."""
 
 
 def stair_mode(y, threshold: float):
@@ -154,11 +157,17 @@ def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float, low=No
     """
     Signed risers of a whole flight with one riser height, eq. 14 summed over its strides.
 
-    N = C * sum_i w_i clip(max(1, round(|dh_i| / K)), n_low_i, n_high_i);   h_end - h_start = K N
+    N = C * sum_i w_i n_i,   h_end - h_start = K N,   with m_i = max(1, round(|dh_i| / K)) and
+    n_i = m_i                            if | |dh_i| / K - m_i | <= rho  (the height is sure)
+    n_i = clip(m_i, n_low_i, n_high_i)   otherwise
 
     The bounds are the riser counts the stride's horizontal length allows
     (``riser_height.riser_count_bounds``, our addition): a stride whose height is off by half a
-    riser (an INS glitch after a landing turn) is still counted as its length says.
+    riser (an INS glitch after a landing turn) is still counted as its length says. A height
+    within rho = :data:`SURE_HEIGHT_RISERS` of a whole count is kept whatever the length says:
+    one stride's INS length can read 0.2-0.35 m long in the middle of a flight whose heights
+    are right to 3 mm (tactical IMU, random walks 11, 13 and 16), which the bound alone turned
+    into one riser too many.
 
     Parameters
     ----------
@@ -178,7 +187,9 @@ def flight_riser_count(mode: int, abs_dh_m, cycles, step_height_m: float, low=No
     int.
 
     """
-    steps = quantised_step_count(1, np.asarray(abs_dh_m, dtype=float), step_height_m)
+    abs_dh_m = np.asarray(abs_dh_m, dtype=float)
+    steps = quantised_step_count(1, abs_dh_m, step_height_m)
     if low is not None:
-        steps = np.clip(steps, np.asarray(low), np.asarray(high))
+        sure = np.abs(abs_dh_m / step_height_m - steps) <= SURE_HEIGHT_RISERS
+        steps = np.where(sure, steps, np.clip(steps, np.asarray(low), np.asarray(high)))
     return int(mode * np.dot(steps, np.asarray(cycles, dtype=np.int64)))
