@@ -32,12 +32,19 @@ default training options), scored with sigma_th chosen inside the training folds
   stride length per mode (true: about 1.3 m level, 0.6 m on stairs).
 - ``gyro``: the feet whose gyro ``file_index.csv`` flags, read as +-2000 and as +-250 deg/s,
   classified by a model of the unflagged feet and the simulated runs.
+- ``gate``: the cycles the stride gate (``stride_gate.enabled``) adds and removes, per foot:
+  an added cycle is one whose end is more than 0.2 s from every end without the gate; its
+  duration (from the previous end), its ratio to the neighbouring cycles' (a split stride:
+  about 0.5; a recovered one: about 1), where its end falls in the cycle without the gate
+  that holds it (0-1), and whether its relaxed stance sits on the +-2 g rail (+-2 samples);
+  the two feet of a file should cut as many cycles.
 
 Navigator outputs are cached as in ``train`` (``--cache-dir``).
 """
 
 import argparse
 from collections import Counter, defaultdict
+import dataclasses
 from pathlib import Path
 import sys
 
@@ -46,7 +53,7 @@ from anfis_elevation_ros.core.input_gate import InputGate
 from anfis_elevation_ros.core.navigator import FootNavigator
 from anfis_elevation_ros.tools import labels as lab
 from anfis_elevation_ros.tools import train
-from anfis_elevation_ros.tools.datasets import load_hugadb, STANDARD_GRAVITY_MPS2
+from anfis_elevation_ros.tools.datasets import load_hugadb, shared_data_dir, STANDARD_GRAVITY_MPS2
 from anfis_elevation_ros.tools.metrics import confusion_matrix
 from anfis_elevation_ros.tools.replay import navigated_samples
 import numpy as np
@@ -276,6 +283,79 @@ def print_gyro(args):
               f'cycles ({counts["cycles"]} cycles, {counts["invalid"]} invalid); {per}')
 
 
+def gated_run(recording, enabled: bool):
+    """Per sample stance flags and the (start, end) stamps of the cycles, gate off or on."""
+    defaults = train.Pipeline()
+    params = dataclasses.replace(defaults.navigator, stride_gate=dataclasses.replace(
+        defaults.navigator.stride_gate, enabled=enabled))
+    stance = np.zeros(len(recording.stamp_ns), bool)
+    ends = []
+    for k, point, cycle in navigated_samples(recording, InputGate(defaults.gate),
+                                             FootNavigator(params)):
+        stance[k] = point.stance
+        if cycle is not None:
+            ends.append(cycle.stamp_ns)
+    return stance, np.array(ends, dtype=np.int64)
+
+
+def print_gate(args):
+    """Print the cycles the stride gate adds and removes on HuGaDB, and what they are."""
+    tolerance_ns = 200_000_000
+    added, removed, counts, per_file = [], [], np.zeros(2, int), defaultdict(dict)
+    for spec in train.hugadb_specs(args.hugadb):
+        recording, _ = load_hugadb(spec.path, spec.foot, gyro_range_dps=spec.gyro_range_dps)
+        stance_off, off = gated_run(recording, False)
+        stance_on, on = gated_run(recording, True)
+        saturated = np.any(np.abs(recording.acc_b) >= HUGADB_ACC_SATURATION_MPS2, axis=1)
+        stamps = np.asarray(recording.stamp_ns)
+        per_file[spec.path][spec.foot] = (len(off), len(on))
+        counts += len(off), len(on)
+        removed += [(t - off[i - 1]) * 1e-9 for i, t in enumerate(off)
+                    if i and _distance_ns(on, t) >= tolerance_ns]
+        for i, end in enumerate(on):
+            if i == 0 or _distance_ns(off, end) < tolerance_ns:
+                continue
+            duration = (end - on[i - 1]) * 1e-9
+            neighbours = [(on[j] - on[j - 1]) * 1e-9 for j in (i - 1, i + 1, i + 2)
+                          if 0 < j < len(on) and j != i]
+            k = int(np.searchsorted(stamps, end))
+            j = int(np.searchsorted(off, end))
+            phase = (end - off[j - 1]) / (off[j] - off[j - 1]) if 0 < j < len(off) else np.nan
+            added.append((duration, duration / np.median(neighbours) if neighbours else np.nan,
+                          phase, stance_on[k] and not stance_off[k],
+                          saturated[max(0, k - 2):k + 3].any()))
+    added = np.array(added, dtype=float).reshape(-1, 5)
+    print(f'\nStride gate on HuGaDB ({len(per_file)} files): {counts[0]} cycles without, '
+          f'{counts[1]} with; {len(added)} added, {len(removed)} removed (not first of a foot)')
+    edges = (0, .4, .8, 1.2, 2, 100)
+    print('  removed cycles by duration (s): ' + ', '.join(
+        f'[{lo:g}, {hi:g}) {n}' for lo, hi, n in _histogram(np.array(removed), edges)))
+    for title, column, edges in (('duration (s)', 0, (0, .6, .8, 1.2, 1.5, 2, 100)),
+                                 ('ratio to the neighbouring cycles', 1, (0, .6, .8, 1.2, 1.6,
+                                                                          100)),
+                                 ('end within the cycle without the gate', 2,
+                                  (0, .2, .4, .6, .8, 1))):
+        print(f'  added cycles by {title}: ' + ', '.join(
+            f'[{lo:g}, {hi:g}) {n}' for lo, hi, n in _histogram(added[:, column], edges)))
+    print(f'  ended by a relaxed stance: {int(added[:, 3].sum())}; on the +-2 g rail: '
+          f'{int(added[:, 4].sum())}')
+    both = [feet for feet in per_file.values() if len(feet) == 2]
+    for index, name in ((0, 'without'), (1, 'with')):
+        print(f'  |left - right| cycles {name} the gate, summed over the {len(both)} files '
+              f'with both feet: {sum(abs(f["left"][index] - f["right"][index]) for f in both)}')
+
+
+def _distance_ns(stamps_ns, stamp_ns) -> float:
+    """Return the distance of a stamp to the nearest of others (inf when none), ns."""
+    return float(np.min(np.abs(stamps_ns - stamp_ns))) if len(stamps_ns) else np.inf
+
+
+def _histogram(values, edges):
+    """Return (low, high, count) of the finite values per bin."""
+    counts = np.histogram(values[np.isfinite(values)], edges)[0]
+    return zip(edges[:-1], edges[1:], counts)
+
+
 def main(argv=None) -> int:
     """Print the analysis."""
     parser = argparse.ArgumentParser(description=__doc__.strip().split('\n\n')[0],
@@ -283,18 +363,23 @@ def main(argv=None) -> int:
     parser.add_argument('--parts', default='loso,nav,gyro')
     parser.add_argument('--clipped-gyro', action='store_true',
                         help='loso: add the +-250 deg/s feet (subjects 4 and 5 have no other)')
-    parser.add_argument('--hugadb', type=Path, default=ROOT.parent / 'shared' / 'data' / 'hugadb')
+    parser.add_argument('--hugadb', type=Path, default=None,
+                        help='HuGaDB folder (default: hugadb of the shared data)')
     parser.add_argument('--cache-dir', type=Path, default=train.default_cache_dir())
     parser.add_argument('--jobs', type=int, default=1)
     parser.add_argument('--quiet', action='store_true')
     args = parser.parse_args(argv)
     parts = args.parts.split(',')
+    if args.hugadb is None:
+        args.hugadb = shared_data_dir() / 'hugadb'
     if 'loso' in parts:
         print_loso(loso(args))
     if 'nav' in parts:
         print_nav(args)
     if 'gyro' in parts:
         print_gyro(args)
+    if 'gate' in parts:
+        print_gate(args)
     return 0
 
 
