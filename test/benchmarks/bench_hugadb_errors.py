@@ -38,6 +38,9 @@ default training options), scored with sigma_th chosen inside the training folds
   about 0.5; a recovered one: about 1), where its end falls in the cycle without the gate
   that holds it (0-1), and whether its relaxed stance sits on the +-2 g rail (+-2 samples);
   the two feet of a file should cut as many cycles.
+- ``gate_loso``: leave-one-subject-out of the used cycles, gate off and on (every simulated run
+  in every training set, sigma_th 0.45: a quick check, not the ``train`` folds): accuracy of
+  the cycles both detectors cut (start and end within 0.2 s) and of those only one cuts.
 
 Navigator outputs are cached as in ``train`` (``--cache-dir``).
 """
@@ -283,11 +286,17 @@ def print_gyro(args):
               f'cycles ({counts["cycles"]} cycles, {counts["invalid"]} invalid); {per}')
 
 
-def gated_run(recording, enabled: bool):
-    """Per sample stance flags and the (start, end) stamps of the cycles, gate off or on."""
+def gated_pipeline(enabled: bool):
+    """Return the default pipeline with the stride gate off or on."""
     defaults = train.Pipeline()
-    params = dataclasses.replace(defaults.navigator, stride_gate=dataclasses.replace(
-        defaults.navigator.stride_gate, enabled=enabled))
+    return train.Pipeline(dataclasses.replace(defaults.navigator, stride_gate=dataclasses.replace(
+        defaults.navigator.stride_gate, enabled=enabled)), defaults.gate)
+
+
+def gated_run(recording, enabled: bool):
+    """Per sample stance flags and the end stamps of the cycles, gate off or on."""
+    defaults = gated_pipeline(enabled)
+    params = defaults.navigator
     stance = np.zeros(len(recording.stamp_ns), bool)
     ends = []
     for k, point, cycle in navigated_samples(recording, InputGate(defaults.gate),
@@ -345,6 +354,53 @@ def print_gate(args):
               f'with both feet: {sum(abs(f["left"][index] - f["right"][index]) for f in both)}')
 
 
+def gate_loso(args, enabled: bool) -> dict:
+    """Leave-one-subject-out of the used HuGaDB cycles: {name: (label, predicted, start, end)}."""
+    pipeline, rules = gated_pipeline(enabled), train.LabelRules()
+    sims = [train.sim_spec(seed) for seed in range(1, 41)]
+    hugadb = train.hugadb_specs(args.hugadb)
+    sets = train.collect(sims + hugadb, pipeline, rules, args.cache_dir, args.jobs,
+                         train.Progress(args.quiet))
+    stamps = {}
+    for spec, cycle_set in zip(hugadb, sets[len(sims):]):
+        nav = train.navigated(spec, pipeline, args.cache_dir)[0]
+        _, labelled = lab.majority_labels(nav.start_ns, nav.stamp_ns, nav.truth_stamp_ns,
+                                          nav.truth_label, rules.min_majority)
+        used = nav.valid & (labelled | lab.non_stride_cycles(nav.start_ns, nav.stamp_ns,
+                                                             rules.min_stride_s))
+        stamps[cycle_set.name] = nav.start_ns[used], nav.stamp_ns[used]
+    simulated = [s for s in sets[:len(sims)] if len(s.labels)]
+    found = [s for s in sets[len(sims):] if len(s.labels)]
+    out = {}
+    for subject in sorted({s.subject for s in found}):
+        features, labels, _ = train.stack(simulated + [s for s in found if s.subject != subject])
+        model = train.fit_model(features, labels, train.TrainOptions())
+        for s in found:
+            if s.subject == subject:
+                out[s.name] = (s.labels, stair_mode(model.predict(s.features), 0.45),
+                               *stamps[s.name])
+    return out
+
+
+def print_gate_loso(args):
+    """Print the accuracy of the cycles both detectors cut and of those only one cuts."""
+    tolerance_ns = 200_000_000
+    runs = {'without': gate_loso(args, False), 'with': gate_loso(args, True)}
+    for name, other in (('with', 'without'), ('without', 'with')):
+        both, alone, alone_confusion = [], [], np.zeros((3, 3), int)
+        for key, (label, predicted, start, end) in runs[name].items():
+            _, _, other_start, other_end = runs[other].get(key, (None, None, [], []))
+            for i in range(len(label)):
+                same = (_distance_ns(np.asarray(other_end), end[i]) < tolerance_ns
+                        and _distance_ns(np.asarray(other_start), start[i]) < tolerance_ns)
+                (both if same else alone).append(label[i] == predicted[i])
+                if not same:
+                    alone_confusion[label[i] + 1, predicted[i] + 1] += 1
+        print(f'  {name} the gate: {len(both)} cycles also cut {other} it, accuracy '
+              f'{np.mean(both):.3f}; {len(alone)} only {name} it, accuracy {np.mean(alone):.3f}, '
+              f'confusion (rows true -1/0/+1) {alone_confusion.tolist()}')
+
+
 def _distance_ns(stamps_ns, stamp_ns) -> float:
     """Return the distance of a stamp to the nearest of others (inf when none), ns."""
     return float(np.min(np.abs(stamps_ns - stamp_ns))) if len(stamps_ns) else np.inf
@@ -380,6 +436,8 @@ def main(argv=None) -> int:
         print_gyro(args)
     if 'gate' in parts:
         print_gate(args)
+    if 'gate_loso' in parts:
+        print_gate_loso(args)
     return 0
 
 
