@@ -22,6 +22,7 @@ from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.frames import rpy_to_dcm
 from anfis_elevation_ros.core.strapdown import strapdown
 from anfis_elevation_ros.sim import motion
+from anfis_elevation_ros.sim.plan import STAND_S
 import numpy as np
 import pytest
 
@@ -33,6 +34,7 @@ DEG = math.pi / 180.0
 PHYSICS_WALK = (sim.Segment.level(2, turn_deg=60.0), sim.Segment.stairs(4, +1),
                 sim.Segment.turn(-90.0), sim.Segment.stairs(2, -1, steps_per_stride=1),
                 sim.Segment.level(1))
+STILL_GAIT = sim.GaitParams(stance_sway_rps=(0.0, 0.0), stand_sway_rps=(0.0, 0.0))
 
 
 def quat_to_dcm_batch(q):
@@ -47,9 +49,11 @@ def quat_to_dcm_batch(q):
 
 def ideal_strapdown_errors(rate_hz, mounting_rpy_deg=(10.0, -25.0, 40.0)):
     """Max position (m) and attitude (rad) error of free strapdown on the ideal preset."""
+    # The foot still on the ground: the sway's rate steps at the stance's ends (sim.sway) are
+    # a first-order error of any integrator, which is not what this measures.
     walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(5), rate_hz=rate_hz,
                              imu='ideal', mounting_rpy_deg=mounting_rpy_deg,
-                             initial_stand_s=2.0, final_stand_s=0.5)
+                             initial_stand_s=2.0, final_stand_s=0.5, gait=STILL_GAIT)
     quat, _, pos = strapdown(walk.quat_nb[0], walk.vel_n[0], walk.pos_n[0], walk.stamp_ns,
                              walk.acc_b, walk.gyr_b, gravity_mps2=walk.gravity_mps2)
     pos_err = np.linalg.norm(pos - walk.pos_n, axis=1).max()
@@ -76,8 +80,9 @@ def test_ideal_imu_strapdown_reproduces_truth():
 
 def test_ideal_signals_match_attitude_and_velocity_derivatives():
     # Independent of the strapdown code: the truth sampled at 2 kHz.
+    # (The sway's rate steps at the stance's ends: test_a_foot_on_the_ground_sways_about_the_imu.)
     walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(2), rate_hz=2000.0,
-                             imu='ideal', mounting_rpy_deg=(180.0, 0.0, 0.0))
+                             imu='ideal', mounting_rpy_deg=(180.0, 0.0, 0.0), gait=STILL_GAIT)
     dt = 1.0 / walk.rate_hz
     C = quat_to_dcm_batch(walk.quat_nb)
     acc_n = np.einsum('nij,nj->ni', C, walk.acc_b) - [0.0, 0.0, G]     # a_n = C_nb f_b + g_n
@@ -184,7 +189,7 @@ def test_swing_rates_and_touch_down_impacts_are_those_of_a_real_foot():
 @pytest.mark.parametrize('mounting', [(0.0, 0.0, 0.0), (180.0, 0.0, 0.0), (30.0, -20.0, 75.0)])
 def test_at_rest_the_imu_reads_gravity_rotated_by_the_mounting(mounting):
     walk = sim.simulate_walk(PHYSICS_WALK, rng=np.random.default_rng(0), rate_hz=100.0,
-                             imu='ideal', mounting_rpy_deg=mounting)
+                             imu='ideal', mounting_rpy_deg=mounting, gait=STILL_GAIT)
     C_fb = rpy_to_dcm(*(a * DEG for a in mounting))
     expected = C_fb.T @ [0.0, 0.0, G]              # f_b = C_bf C_fn [0, 0, g], foot flat
     # Every stance sample (start, on the stairs, after turns) has the foot flat and still.
@@ -195,6 +200,43 @@ def test_at_rest_the_imu_reads_gravity_rotated_by_the_mounting(mounting):
     assert np.all(walk.pos_n[0] == 0.0)
     if mounting == (180.0, 0.0, 0.0):
         assert np.allclose(walk.acc_b[0], [0.0, 0.0, -G])   # pyshoe-like z down
+
+
+def test_a_foot_on_the_ground_sways_about_the_imu():
+    gait = sim.GaitParams()
+    walk = sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(3), rate_hz=200.0,
+                             imu='ideal', gait=gait)
+    rate = np.abs(walk.gyr_b)
+    # The first stand (3 s) sways within stand_sway_rps; the walking stances within
+    # stance_sway_rps (per axis; three axes at most sqrt(3) times it).
+    first_swing = np.argmax(~walk.stance)
+    assert 0.005 < rate[:first_swing].max() <= gait.stand_sway_rps[1]
+    runs = np.flatnonzero(np.diff(np.r_[0, walk.stance.astype(int), 0]))
+    walking = np.zeros_like(walk.stance)
+    for start, end in zip(runs[::2], runs[1::2]):
+        walking[start:end] = (end - start) / walk.rate_hz < STAND_S
+    assert walking.sum() > 0.2 * walk.stance.sum()
+    assert rate[walking].max() <= gait.stance_sway_rps[1]
+    # Walking stances are not still for a zero angular rate update at 0.02 rad/s: most
+    # 25 ms windows hold a rate above it.
+    window = 5
+    peak = np.max([np.roll(rate.max(axis=1), k) for k in range(window)], axis=0)
+    assert np.mean(peak[walking] > 0.02) > 0.8
+    # The IMU stays in place: position and velocity as without the sway.
+    still = sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(3), rate_hz=200.0,
+                              imu='ideal', gait=STILL_GAIT)
+    assert np.array_equal(walk.pos_n, still.pos_n) and np.array_equal(walk.vel_n, still.vel_n)
+    assert np.array_equal(walk.stance, still.stance)
+    # The rates are the attitude's: C_k^T C_(k+1) ~ I + [w x] dt inside the stances.
+    fine = sim.simulate_walk(sim.sample_walk(), rng=np.random.default_rng(3), rate_hz=2000.0,
+                             imu='ideal', gait=gait)
+    C = quat_to_dcm_batch(fine.quat_nb)
+    dC = np.einsum('nji,njk->nik', C[:-1], C[1:])
+    w_b = np.stack([dC[:, 2, 1] - dC[:, 1, 2], dC[:, 0, 2] - dC[:, 2, 0],
+                    dC[:, 1, 0] - dC[:, 0, 1]], -1) * (fine.rate_hz / 2.0)
+    inside = fine.stance[:-2] & fine.stance[1:-1] & fine.stance[2:]
+    w_mid = 0.5 * (fine.gyr_b[:-1] + fine.gyr_b[1:])
+    assert np.abs(w_b - w_mid)[:-1][inside].max() < 1e-4
 
 
 def test_stance_samples_have_zero_truth_velocity_and_swings_move():
@@ -480,7 +522,7 @@ def test_interval_means_keep_the_velocity_change_of_a_touch_down():
     end_speed = {}
     for model in ('ideal', means):
         walk = sim.simulate_walk(PHYSICS_WALK * 2, rng=np.random.default_rng(5), rate_hz=100.0,
-                                 imu=model)
+                                 imu=model, gait=STILL_GAIT)
         s = walk.strides
         speeds = []
         for i in range(len(s)):

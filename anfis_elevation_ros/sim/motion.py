@@ -16,9 +16,10 @@
 Foot-mounted IMU simulator: a walk plan, its true foot trajectory and the IMU readings.
 
 A walk is a sequence of ``Segment`` s (level walking, stair flights, turns on the spot, standing).
-Each stride of the instrumented foot is a swing followed by a stance (foot flat and still). During
-the swing every coordinate -- horizontal progress, height, roll, pitch, yaw -- follows a C2
-chain of quintic pieces between knots that fix the value and its first two derivatives
+Each stride of the instrumented foot is a swing followed by a stance (foot flat, the IMU in
+place, the foot swaying about it: ``sway``). During the swing every coordinate -- horizontal
+progress, height, roll, pitch, yaw -- follows a C2 chain of quintic pieces between knots that
+fix the value and its first two derivatives
 (``knot_profile``), so position, velocity, acceleration, attitude and Euler rates are analytic
 and the ideal IMU readings are exact samples of
 

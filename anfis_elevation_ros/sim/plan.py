@@ -28,6 +28,7 @@ EPOCH_NS = 1_700_000_000_000_000_000  # stamp of the first sample, ns (2023-11-1
 DEFAULT_INITIAL_STAND_S = 3.0  # at rest before the first stride: the navigator levels itself
 DEFAULT_FINAL_STAND_S = 2.0
 MIN_INITIAL_STAND_S = 2.0
+STAND_S = 1.0                  # a stance this long or longer is standing (GaitParams sway)
 SEGMENT_KINDS = ('level', 'stairs', 'turn', 'stand')
 DEG = math.pi / 180.0
 
@@ -126,7 +127,10 @@ class GaitParams:
     forward and ``*_sink_mps`` the downward speed of the IMU when the sole meets the ground,
     ``impact_s`` the rise (and the fall) time of the deceleration pulse that stops it,
     ``foot_flat_s`` the time to roll flat after it; ``swing_roll_rps`` is the roll rate where
-    the pitch turns (a random sign per stride).
+    the pitch turns (a random sign per stride). A foot on the ground is not still: it sways
+    about the IMU at ``sway_hz``, with a peak rate per axis of ``stance_sway_rps`` in a walking
+    stance and ``stand_sway_rps`` in a stance of ``STAND_S`` or longer (standing); (0, 0) keeps
+    it still.
     """
 
     level_stride_length_m: tuple = (1.2, 1.5)
@@ -159,6 +163,9 @@ class GaitParams:
     heel_from_imu_m: float = 0.10        # along the foot, IMU to the heel pivot
     swing_roll_rps: tuple = (0.8, 1.6)
     stride_length_jitter: float = 0.03   # relative std of a Segment's given stride length
+    stance_sway_rps: tuple = (0.03, 0.08)
+    stand_sway_rps: tuple = (0.01, 0.03)
+    sway_hz: tuple = (1.0, 3.0)
 
     def __post_init__(self):
         for field in fields(self):
@@ -171,6 +178,10 @@ class GaitParams:
                     raise InputError(f'GaitParams.{field.name}={value} must be positive')
         check_range('GaitParams.stance_fraction', self.stance_fraction[1], 0.0, 0.8)
         check_range('GaitParams.swing_roll_rps', self.swing_roll_rps[1], 0.0, 5.0)
+        check_range('GaitParams.stance_sway_rps', self.stance_sway_rps[1], 0.0, 0.5)
+        check_range('GaitParams.stand_sway_rps', self.stand_sway_rps[1], 0.0, 0.5)
+        check_range('GaitParams.sway_hz', self.sway_hz[0], 0.1, 20.0)
+        check_range('GaitParams.sway_hz', self.sway_hz[1], 0.1, 20.0)
         check_range('GaitParams.stride_length_jitter', self.stride_length_jitter, 0.0, 0.2)
         check_range('GaitParams.toe_from_imu_m', self.toe_from_imu_m, 0.0, 0.3)
         check_range('GaitParams.heel_from_imu_m', self.heel_from_imu_m, 0.0, 0.3)

@@ -31,6 +31,7 @@ from .motion import body_rate_from_euler_zyx, euler_zyx_to_dcm, euler_zyx_to_qua
 from .motion import knot_profile, plan_strides, quat_multiply_batch, specific_force_b
 from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, DEG, EPOCH_NS
 from .plan import GaitParams, MIN_INITIAL_STAND_S, Segment
+from .sway import add_sway, draw_sway, stance_intervals
 from ..core.errors import InputError
 from ..core.frames import GRAVITY_MPS2, rpy_to_dcm
 from ..core.imu_data import ImuRecording
@@ -133,9 +134,9 @@ def simulate_walk(segments, *, rng: np.random.Generator, rate_hz: float = 200.0,
     Simulate a walk: true foot motion and the readings of an IMU mounted on the foot.
 
     The walk starts with ``initial_stand_s`` at rest (>= 2 s, for the navigator's levelling)
-    and ends with ``final_stand_s`` at rest. ``rng`` is split into two independent streams, one
-    for the gait and one for the IMU errors, so the same seed gives the same trajectory for any
-    IMU preset.
+    and ends with ``final_stand_s`` at rest, the foot swaying about the IMU on the ground
+    (``sway``). ``rng`` is split into independent streams, one for the gait, one for the IMU
+    errors and one for the sway, so the same seed gives the same trajectory for any IMU preset.
 
     Parameters
     ----------
@@ -181,7 +182,7 @@ def simulate_walk(segments, *, rng: np.random.Generator, rate_hz: float = 200.0,
         raise InputError(f'mounting_rpy_deg={mounting_rpy_deg} must be 3 angles (roll, pitch, '
                          'yaw) in degrees')
     model = imu_error_model(imu)
-    gait_rng, imu_rng = rng.spawn(2)
+    gait_rng, imu_rng, sway_rng = rng.spawn(3)     # the first two as before the sway
 
     plans, t_end = plan_strides(segments, gait, step_height_m, gait_rng, initial_stand_s)
     t_end += final_stand_s
@@ -190,8 +191,11 @@ def simulate_walk(segments, *, rng: np.random.Generator, rate_hz: float = 200.0,
     stamp_ns = EPOCH_NS + offset_ns
     t = offset_ns * 1e-9
 
+    intervals = stance_intervals(plans, t_end)
+    sway = (intervals, draw_sway(intervals, gait, sway_rng))
     C_fb = rpy_to_dcm(*(a * DEG for a in mounting_rpy_deg))
-    pos, vel, euler, stance, acc_true_b, gyr_true_b = _true_motion(plans, t, C_fb, gravity_mps2)
+    pos, vel, euler, stance, acc_true_b, gyr_true_b = _true_motion(plans, t, C_fb, gravity_mps2,
+                                                                   sway)
     if model.interval_mean:
         moving = np.zeros(n, dtype=bool)
         half_s = 0.5 / rate_hz
@@ -199,7 +203,7 @@ def simulate_walk(segments, *, rng: np.random.Generator, rate_hz: float = 200.0,
             moving[np.searchsorted(t, plan.t_start_s - half_s, side='right'):np.searchsorted(
                 t, plan.t_start_s + plan.swing_s + half_s, side='left')] = True
         acc_true_b[moving], gyr_true_b[moving] = interval_means(
-            lambda times: _true_motion(plans, times, C_fb, gravity_mps2)[4:], t[moving],
+            lambda times: _true_motion(plans, times, C_fb, gravity_mps2, sway)[4:], t[moving],
             1.0 / rate_hz)
     q_nf = euler_zyx_to_quat(euler[:, 0], euler[:, 1], euler[:, 2])
     q_fb = euler_zyx_to_quat(*(np.array([a * DEG]) for a in mounting_rpy_deg))[0]
@@ -248,14 +252,15 @@ def interval_means(signals, t: np.ndarray, dt_s: float, sub_samples: int = 8,
     return tuple(np.concatenate(p) for p in zip(*parts))
 
 
-def _true_motion(plans, t: np.ndarray, C_fb: np.ndarray, gravity_mps2: float) -> tuple:
+def _true_motion(plans, t: np.ndarray, C_fb: np.ndarray, gravity_mps2: float, sway) -> tuple:
     """
     Truth and exact IMU signals at times t (s).
 
-    Returns pos, vel (N, 3) in n, the foot's Euler angles (N, 3), the stance flags (N,), and the
+    ``sway`` is (stance intervals, their sway parameters), ``sway.add_sway``'s. Returns pos, vel (N, 3) in n, the foot's Euler angles (N, 3), the stance flags (N,), and the
     specific force and angular rate in b (N, 3): f_b = C_bf C_fn (a_n - g_n), w_b = C_bf w_f.
     """
     pos, vel, acc, euler, euler_rate, stance = _trajectory(plans, t)
+    add_sway(t, *sway, euler, euler_rate)
     C_nf = euler_zyx_to_dcm(euler[:, 0], euler[:, 1], euler[:, 2])
     gyr_f = body_rate_from_euler_zyx(euler[:, 0], euler[:, 1], *euler_rate.T)
     gyr_b = gyr_f @ C_fb                             # rows: C_fb^T w_f
