@@ -256,8 +256,10 @@ def _true_motion(plans, t: np.ndarray, C_fb: np.ndarray, gravity_mps2: float, sw
     """
     Truth and exact IMU signals at times t (s).
 
-    ``sway`` is (stance intervals, their sway parameters), ``sway.add_sway``'s. Returns pos, vel (N, 3) in n, the foot's Euler angles (N, 3), the stance flags (N,), and the
-    specific force and angular rate in b (N, 3): f_b = C_bf C_fn (a_n - g_n), w_b = C_bf w_f.
+    ``sway`` is (stance intervals, their sway parameters), as ``sway.add_sway`` takes them.
+    Returns pos, vel (N, 3) in n, the foot's Euler angles (N, 3), the stance flags (N,), and
+    the specific force and angular rate in b (N, 3): f_b = C_bf C_fn (a_n - g_n),
+    w_b = C_bf w_f.
     """
     pos, vel, acc, euler, euler_rate, stance = _trajectory(plans, t)
     add_sway(t, *sway, euler, euler_rate)
