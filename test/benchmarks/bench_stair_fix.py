@@ -16,9 +16,10 @@
 Benchmark of the stair-position correction on the seed-003-like walk (``sim/seed003.py``).
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_stair_fix.py
-[--seeds 3 4 5] [--rate-hz 100]`` (a script, not a test; about a minute per seed). For each
-seed it simulates the walk (``SEED003_IMU``), writes its building file and replays the
-pipeline (``replay_recording``, the default model) three times on the same readings:
+[--seeds 3 4 5] [--rate-hz 100] [--hde] [--no-zaru]`` (a script, not a test; about a minute
+per seed). For each seed it simulates the walk (``SEED003_IMU``), writes its building file and
+replays the pipeline (``replay_recording``, the default model; ``--no-zaru``: zero angular
+rate updates off) three times on the same readings:
 
 - plain: the building's map frame only (no ``stairs``): the ZUPT filter alone;
 - database: the whole building file: corrections at the stair entries;
@@ -110,8 +111,13 @@ def main(argv=None) -> int:
     parser.add_argument('--rate-hz', type=float, default=100.0)
     parser.add_argument('--hde', action='store_true',
                         help='also replay with heuristic drift elimination along the corridors')
+    parser.add_argument('--no-zaru', action='store_true',
+                        help='zero angular rate updates off (heading.zaru_enabled, on by default)')
     args = parser.parse_args(argv)
     pipeline = load_pipeline_params()
+    if args.no_zaru:
+        heading = replace(pipeline.navigator.heading, zaru_enabled=False)
+        pipeline = replace(pipeline, navigator=replace(pipeline.navigator, heading=heading))
     model = load_model(pipeline.model_path)
     missed = False
     for seed in args.seeds:
