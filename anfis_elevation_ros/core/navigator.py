@@ -18,9 +18,9 @@ The foot navigator: mechanisation, SHOE detection, ZUPT-EKF and gait cycles, per
 ``FootNavigator.step`` is the one pipeline behind the IMU node, offline replay and training:
 each call takes one IMU sample and returns the navigated sample and, on the sample that
 closes one, the gait cycle with its features. After start-up a sample goes through
-``navigation_step`` (S1-S3: the equation functions of strapdown, zupt and ekf, compiled with
-numba, see ``core/jit.py``, on the plain arrays whose layout the constants below name), then
-through ``GaitSegmenter`` (S4, Python: it works once per cycle).
+``navigation_step`` (S1-S3, ``core/navigation_step.py``: the equation functions of strapdown,
+zupt and ekf, compiled with numba, on plain arrays that this class owns), then through
+``GaitSegmenter`` (S4, Python: it works once per cycle).
 
 Start-up: the navigator estimates the sample rate from the first stamps (unless given), then
 waits for the first stance of at least ``init_stance_s`` (a firefighter may start walking at
@@ -48,34 +48,23 @@ import numpy as np
 from . import ekf
 from .ekf import EkfParams
 from .errors import InputError
-from .frames import dcm_to_quat, dcm_to_rpy, GRAVITY_MPS2, level_attitude_from_gravity, mat_mul
-from .frames import mat_vec, quat_multiply, quat_to_dcm, rpy_to_dcm
+from .frames import dcm_to_rpy, GRAVITY_MPS2, quat_multiply, quat_to_dcm, rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
 from .heading_aids import HeadingAider, HeadingAidParams
-from .jit import jit
 from .map_frame import MapAlignment, rotate_error_covariance
-from .strapdown import strapdown_step
-from .stride_gate import initial_state, RELAXED_SIGMA, samples_to_relaxed_stance
-from .stride_gate import stride_gate_update, StrideGateParams
+from .navigation_step import ACC_BIAS_B, ADAPTIVE, attitude_at_rest, GAPS, GRAVITY, GYR_BIAS_B
+from .navigation_step import GYR_RAIL, GYR_RAIL_NOISE, LAST_NIS, MAX_DT_S, MAX_GAP_S
+from .navigation_step import MIN_STANCE_SAMPLES, MISSING_SAMPLES, N_NOMINAL, navigation_step
+from .navigation_step import POS_N, PREV_STAMP_NS, Q_NB, RATE_HZ, STANCE_SAMPLES, STILL_SAMPLES
+from .navigation_step import THRESHOLD, THRESHOLD_LAW, VEL_N, ZARU_MAX_GYR, ZARU_SAMPLES
+from .navigation_step import ZARU_SIGMA, ZUPT_SIGMA
+from .stride_gate import initial_state, samples_to_relaxed_stance, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .validation import check_range
-from .zupt import adaptive_threshold, GaitIntensity, intensity_update, shoe_update, ShoeDetector
-from .zupt import window_is_still, ZuptParams
+from .zupt import adaptive_threshold, GaitIntensity, ShoeDetector, ZuptParams
 
 RATE_ESTIMATE_SAMPLES = 16
 
-# The compiled step works on plain arrays (a numba function takes no objects); their layout:
-# the nominal state,
-Q_NB, VEL_N, POS_N, ACC_BIAS_B, GYR_BIAS_B = (
-    slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(13, 16))
-N_NOMINAL = 16
-# the navigator's integer state and counters,
-PREV_STAMP_NS, STILL_SAMPLES, MIN_STANCE_SAMPLES, RELEVEL, GAPS, MISSING_SAMPLES, \
-    STANCE_SAMPLES, ZARU_SAMPLES = range(8)
-# and its real-valued state and settings (THRESHOLD_LAW: the arguments of adaptive_threshold).
-THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL, \
-    GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA = range(12)
-THRESHOLD_LAW = slice(12, 17)
 GYR_RAIL_FRACTION = 0.99
 """A rate within 1 % of ``gyro_range_rps`` is at the rail (sensors stop a little short)."""
 
@@ -163,104 +152,6 @@ class NavigatorStatus:
     last_nis: float = 0.0
     pos_sigma_m: float = 0.0       # sqrt(trace of the position covariance), at the last cycle
     yaw_sigma_rad: float = 0.0     # standard deviation of the heading, at the last cycle
-
-
-@jit
-def attitude_at_rest(acc_mean_b: np.ndarray, yaw_rad: float) -> np.ndarray:
-    """Return q_nb with roll and pitch from the specific force at rest and the given yaw."""
-    C_nb = level_attitude_from_gravity(acc_mean_b)
-    return dcm_to_quat(mat_mul(rpy_to_dcm(0.0, 0.0, yaw_rad - dcm_to_rpy(C_nb)[2]), C_nb))
-
-
-@jit
-def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial, prev_sample,
-                    C_nb_out, counts, scalars, shoe_samples, shoe_sums, shoe_count, shoe_config,
-                    peaks, intensity_state, intensity_counts, gate_state, gate_config) -> int:
-    """
-    One IMU sample through S1-S3 (after start-up): mechanisation, detector, EKF.
-
-    Updates the arrays in place (layouts: the constants above, ``ShoeDetector``,
-    ``GaitIntensity`` and ``core/stride_gate.py``) and writes the corrected attitude to
-    ``C_nb_out``.
-
-    Returns
-    -------
-    1 if the sample is a stance sample (ZUPT), plus 2 if samples were missing before it (a
-    gap), plus 4 if it is a gait stance (it closes or continues a gait cycle's stance, see
-    ``stride_gate_update``).
-
-    """
-    dt_s = (stamp_ns - counts[PREV_STAMP_NS]) * 1e-9
-    counts[PREV_STAMP_NS] = stamp_ns
-    gap = dt_s > scalars[MAX_GAP_S]
-    if gap:
-        counts[GAPS] += 1
-        counts[RELEVEL] = 1
-    counts[MISSING_SAMPLES] += max(0, round(dt_s * scalars[RATE_HZ]) - 1)
-    dt_s = min(dt_s, scalars[MAX_DT_S])
-
-    # S1, eq. (1)-(3): bias-corrected interval means, trapezoidal integration.
-    acc_mid = 0.5 * (acc_b + prev_sample[0:3]) - nominal[ACC_BIAS_B]
-    gyr_mid = 0.5 * (gyr_b + prev_sample[3:6]) - nominal[GYR_BIAS_B]
-    prev_sample[0:3] = acc_b
-    prev_sample[3:6] = gyr_b
-    q_nb, vel_n, pos_n, C_mid = strapdown_step(nominal[Q_NB], nominal[VEL_N], nominal[POS_N],
-                                               acc_mid, gyr_mid, dt_s, scalars[GRAVITY])
-    acc_bias_b, gyr_bias_b = nominal[ACC_BIAS_B], nominal[GYR_BIAS_B]
-
-    # S3, eq. (5)-(6): covariance prediction.
-    phi = ekf.error_transition_matrix(C_mid, mat_vec(C_mid, acc_mid), dt_s, phi)
-    P[:, :] = ekf.predict_covariance(P, phi, Q_per_s * dt_s)
-    rail = scalars[GYR_RAIL]
-    if rail > 0.0 and max(abs(gyr_b[0]), abs(gyr_b[1]), abs(gyr_b[2])) >= rail:
-        ekf.clipped_gyro_noise(P, scalars[GYR_RAIL_NOISE], dt_s)
-
-    # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still), then the
-    # gait's structure (one stance between two swings).
-    statistic = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b, gyr_b)
-    counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if statistic < scalars[THRESHOLD] else 0
-    gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD],
-                              counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES])
-    stance = gate & 1 == 1
-    if scalars[ADAPTIVE] != 0.0 and intensity_update(
-            peaks, intensity_state, intensity_counts,
-            math.sqrt(gyr_b[0] ** 2 + gyr_b[1] ** 2 + gyr_b[2] ** 2)):
-        law = scalars[THRESHOLD_LAW]
-        scalars[THRESHOLD] = adaptive_threshold(intensity_state[0], law[0], law[1], law[2],
-                                                law[3], law[4])
-
-    # S3, eq. (7): ZUPT in every stance sample.
-    if stance:
-        counts[STANCE_SAMPLES] += 1
-        if counts[RELEVEL]:
-            # First stance after a gap: roll and pitch from gravity again, velocity zero.
-            yaw_rad = dcm_to_rpy(quat_to_dcm(q_nb))[2]
-            q_nb = attitude_at_rest(shoe_sums[0:3] / shoe_samples.shape[0] - acc_bias_b,
-                                    yaw_rad)
-            vel_n = np.zeros(3)
-            P[:, :] = ekf.relevelled_covariance(P, P_initial)
-            counts[RELEVEL] = 0
-        sigma = gate_config[RELAXED_SIGMA] if gate & 4 == 4 else scalars[ZUPT_SIGMA]
-        dx, P_new, nis = ekf.zupt_correction(P, vel_n, sigma)
-        P[:, :] = P_new
-        scalars[LAST_NIS] = nis
-        q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
-            q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
-        # ZARU while the foot stands still (0 disables): the gyro bias from the whole stand.
-        if scalars[ZARU_MAX_GYR] > 0.0 and window_is_still(shoe_samples, scalars[ZARU_MAX_GYR]):
-            counts[ZARU_SAMPLES] += 1
-            dx, P_new, _ = ekf.zaru_correction(P, gyr_b, gyr_bias_b, scalars[ZARU_SIGMA])
-            P[:, :] = P_new
-            q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
-                q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
-
-    nominal[Q_NB] = q_nb
-    nominal[VEL_N] = vel_n
-    nominal[POS_N] = pos_n
-    nominal[ACC_BIAS_B] = acc_bias_b
-    nominal[GYR_BIAS_B] = gyr_bias_b
-    C_nb_out[:, :] = quat_to_dcm(q_nb)
-    return int(stance) + 2 * int(gap) + 4 * int(gate & 2 == 2)
 
 
 class FootNavigator:
