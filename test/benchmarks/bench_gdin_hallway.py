@@ -21,9 +21,10 @@ through the stride positions), and the mean error of the stride-end positions (o
 stride was detected, so that cycle i is stride i), for the plain filter and with each heading
 aid (``heading.zaru_enabled``, ``heading.hde_enabled``, both) side by side, with the gyro's
 range declared (``gyro_range_rps``: clipped samples add attitude noise). The track's
-heading is aligned to the truth on the first ``ALIGN_STRIDES`` stride ends (least-squares
+heading is aligned to the truth on the first ``ALIGN_CYCLES`` cycle ends (least-squares
 rotation about the start): the IMU's initial heading is unknown, as in any foot-mounted INS
-benchmark.
+benchmark. Each cycle end is paired with the truth polyline's point at the same distance walked,
+so a first cycle that spans two strides is fitted to the second stride's end, not the first's.
 """
 
 import sys
@@ -35,16 +36,29 @@ from anfis_elevation_ros.tools.datasets import dataset_files
 from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_walk
 import numpy as np
 
-ALIGN_STRIDES = 3
+ALIGN_CYCLES = 3
 AIDS = {'plain': HeadingAidParams(hde_enabled=False, zaru_enabled=False),
         'zaru': HeadingAidParams(hde_enabled=False, zaru_enabled=True),
         'hde': HeadingAidParams(hde_enabled=True, zaru_enabled=False),
         'both': HeadingAidParams(hde_enabled=True, zaru_enabled=True)}
 
 
+def path_lengths(xy):
+    """Return the distance walked to each point of a polyline (N, 2) -> (N,)."""
+    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+
+
 def aligned(est_xy, truth_xy):
-    """Return est_xy rotated about the origin to fit truth_xy on the first stride ends."""
-    e, t = est_xy[1:ALIGN_STRIDES + 1], truth_xy[1:ALIGN_STRIDES + 1]
+    """
+    Return est_xy rotated about the origin to fit truth_xy on the first cycle ends.
+
+    Cycle end i is paired with the point of the truth polyline at the same distance walked.
+    """
+    e = est_xy[1:ALIGN_CYCLES + 1]
+    walked = path_lengths(est_xy)[1:ALIGN_CYCLES + 1]
+    truth_walked = path_lengths(truth_xy)
+    t = np.column_stack([np.interp(walked, truth_walked, truth_xy[:, 0]),
+                         np.interp(walked, truth_walked, truth_xy[:, 1])])
     angle = np.arctan2(np.sum(e[:, 0] * t[:, 1] - e[:, 1] * t[:, 0]),
                        np.sum(e[:, 0] * t[:, 0] + e[:, 1] * t[:, 1]))
     c, s = np.cos(angle), np.sin(angle)
