@@ -175,14 +175,17 @@ def test_tracker_follows_a_scripted_sequence():
     tracker = ElevationTracker(model, ElevationParams(step_height_m=0.15, **FIXED_K))
     estimates = [tracker.update(100 + i, _features(d), float(i), -float(i))
                  for i, d in enumerate(dh)]
-    assert [e.mode for e in estimates] == [1, 1, 0, -1, -1, 1]
-    # Hand-computed: +0.15, +0.30, 0, -0.45, -0.15 (max(1, round(0.33))), +0.15.
+    # The fifth, called down, climbed 0.33 risers: level (height_checked_mode), where eq. 14
+    # alone would count max(1, round(0.33)) = 1 riser.
+    assert [e.mode for e in estimates] == [1, 1, 0, -1, 0, 1]
+    # Hand-computed: +0.15, +0.30, 0, -0.45, 0, +0.15.
     np.testing.assert_allclose([e.height_m for e in estimates],
-                               [0.15, 0.45, 0.45, 0.0, -0.15, 0.0], rtol=0.0, atol=1e-12)
+                               [0.15, 0.45, 0.45, 0.0, 0.0, 0.15], rtol=0.0, atol=1e-12)
     assert estimates[3] == CycleEstimate(stamp_ns=103, mode=-1, height_m=estimates[3].height_m,
                                          floor=0, x_m=3.0, y_m=-3.0, anfis_output=-0.8,
                                          floor_certain=False, step_height_m=0.15)
-    assert estimates[4].height_m == pytest.approx(-0.15, abs=1e-12)
+    assert estimates[4].anfis_output == -0.7
+    assert (tracker.stair_calls_overruled, tracker.level_calls_overruled) == (1, 0)
     assert tracker.height_m == estimates[-1].height_m
     assert model.seen[0].shape == (1, len(FEATURE_NAMES))
 
@@ -388,12 +391,12 @@ def test_a_flights_first_stride_called_level_is_recovered_when_the_flight_shows(
     for _ in range(3):
         walker.stride(0)
     walker.model.outputs.append(0.0)                # the model says level ...
-    walker.x_m += 2 * TREAD_M
-    walker.true_height_m -= 0.34                    # ... but the stride went down two risers
-    missed = walker.tracker.update(99, _features(-0.342), walker.x_m, 0.0)
+    walker.x_m += TREAD_M
+    walker.true_height_m -= 0.17                    # ... but the stride went down a riser
+    missed = walker.tracker.update(99, _features(-0.171), walker.x_m, 0.0)
     assert missed.height_m == 0.0
-    flight = walker.flight(-1, [2] * 8, 0.17)
-    assert flight[0].height_m == pytest.approx(-0.68, abs=1e-9)      # both strides counted
+    flight = walker.flight(-1, [1] * 8, 0.17)
+    assert flight[0].height_m == pytest.approx(-0.34, abs=1e-9)      # both strides counted
     assert flight[-1].height_m == pytest.approx(walker.true_height_m, abs=1e-9)
     assert walker.tracker.recovered_strides == 1
     # A level stride that reads a few centimetres (noise, a kerb) before a flight is level.
@@ -404,9 +407,9 @@ def test_a_flights_first_stride_called_level_is_recovered_when_the_flight_shows(
     walker.tracker.update(199, _features(0.04), walker.x_m, 0.0)     # 0.24 K: level
     walker.flight(1, [2] * 2, 0.17)
     assert walker.tracker.height_m == pytest.approx(before + 0.68, abs=1e-9)
-    # Nor is a landing turn that reads 0.3 m (an INS glitch), the next flight going on back.
+    # Nor is a landing turn that reads 0.2 m (an INS glitch), the next flight going on back.
     walker.model.outputs.append(0.0)
-    walker.tracker.update(299, _features(0.3), walker.x_m, 0.7)
+    walker.tracker.update(299, _features(0.2), walker.x_m, 0.7)
     walker.model.outputs.append(1.0)
     walker.tracker.update(300, _features(0.34), walker.x_m - 0.56, 0.7)
     assert walker.tracker.height_m == pytest.approx(before + 1.02, abs=1e-9)
@@ -418,6 +421,30 @@ def test_a_flights_first_stride_called_level_is_recovered_when_the_flight_shows(
     walker.tracker.update(400, _features(0.34), walker.x_m - 1.96, 0.7)
     assert walker.tracker.height_m == pytest.approx(before + 1.36, abs=1e-9)
     assert walker.tracker.recovered_strides == 1
+
+
+def test_a_stride_called_level_that_climbed_two_risers_over_two_treads_is_counted_at_once():
+    """Random walk 19 (consumer): the first stride down a flight called level, 2 risers."""
+    walker = _walker(ElevationParams())
+    for _ in range(3):
+        walker.stride(0)
+    walker.model.outputs.append(0.0)                # the model says level ...
+    walker.x_m += 2 * TREAD_M
+    walker.true_height_m -= 0.34                    # ... the stride went down two risers
+    first = walker.tracker.update(99, _features(-0.342), walker.x_m, 0.0)
+    assert first.mode == -1
+    assert first.height_m == pytest.approx(-2 * first.step_height_m, abs=1e-12)   # 2 risers
+    assert first.anfis_output == 0.0                # the classifier's own output is kept
+    flight = walker.flight(-1, [2] * 8, 0.17)
+    assert flight[-1].height_m == pytest.approx(walker.true_height_m, abs=1e-9)
+    assert (walker.tracker.level_calls_overruled, walker.tracker.recovered_strides) == (1, 0)
+    # A level stride of 1.4 m that reads 0.36 m (two risers, but no stairs are that long).
+    walker.stride(0)
+    walker.model.outputs.append(0.0)
+    walker.x_m += 1.4
+    level = walker.tracker.update(199, _features(0.36), walker.x_m, 0.0)
+    assert (level.mode, level.height_m) == (0, flight[-1].height_m)
+    assert walker.tracker.level_calls_overruled == 1
 
 
 def test_the_slope_learnt_on_level_strides_corrects_stair_strides():

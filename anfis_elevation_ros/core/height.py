@@ -69,8 +69,8 @@ from .classifier import as_classifier
 from .errors import InputError
 from .floors import floor_index, floor_map_for, FloorSettler, round_half_away
 from .gait import FEATURE_NAMES
-from .riser_height import known_riser_height_m, LevelSlope, MAX_RISERS, PRIOR_SIGMA_M
-from .riser_height import riser_count_bounds
+from .riser_height import height_checked_mode, known_riser_height_m, LevelSlope, MAX_RISERS
+from .riser_height import PRIOR_SIGMA_M, riser_count_bounds
 from .riser_height import StairwellRiserHeights
 from .stair_steps import bridged_step_count, flight_riser_count, MODE_DOWN, MODE_LEVEL, MODE_UP
 from .stair_steps import quantised_height_step, quantised_step_count, stair_mode
@@ -267,6 +267,8 @@ class ElevationTracker:
         self.bridged_cycles = 0
         self.unbridged_cycles = 0
         self.recovered_strides = 0
+        self.level_calls_overruled = 0
+        self.stair_calls_overruled = 0
         self.implausible_cycles = 0
 
     def resume_flight(self, last_mode: int, last_abs_dh_m: float):
@@ -417,6 +419,10 @@ class ElevationTracker:
         dh_m = float(features[HEIGHT_CHANGE])
         length_m = None if self._last_xy is None or self._lost else math.hypot(
             x_m - self._last_xy[0], y_m - self._last_xy[1])
+        checked = height_checked_mode(mode, dh_m, length_m, self.step_height_m)
+        self.stair_calls_overruled += mode != MODE_LEVEL and checked == MODE_LEVEL
+        self.level_calls_overruled += mode == MODE_LEVEL and checked != MODE_LEVEL
+        mode = checked
         start_xy, self._last_xy = self._last_xy, (x_m, y_m)
         bridged = self._bridge(mode)
         missed = self._missed_first_stride(mode, (x_m, y_m), self.slope.corrected(dh_m, length_m))

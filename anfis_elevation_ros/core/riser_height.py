@@ -35,7 +35,8 @@ Before a stride reaches the estimate its slope error is removed (:class:`LevelSl
 :func:`level_slope`: the raw height per horizontal metre measured on level strides).
 
 Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`riser_count_bounds`,
-:func:`stride_log_likelihood`, :class:`RiserHeightEstimator`, :class:`StairwellRiserHeights`,
+:func:`height_checked_mode`, :func:`stride_log_likelihood`, :class:`RiserHeightEstimator`,
+:class:`StairwellRiserHeights`,
 :func:`stairwell_evidence`, :class:`LevelSlope`, :func:`level_slope`,
 :func:`known_riser_height_m`, :data:`K_GRID_M`.
 
@@ -135,6 +136,37 @@ def allowed_riser_counts(length_m: Optional[float]) -> np.ndarray:
     low, high = TREAD_RANGE_M
     allowed = (counts * low <= length_m) & (length_m <= counts * high)
     return allowed if allowed.any() else np.ones(MAX_RISERS, dtype=bool)
+
+
+def height_checked_mode(mode: int, dh_m: float, length_m: Optional[float],
+                        step_height_m: float) -> int:
+    """
+    Check the classifier's stair mode C against the stride's geometry; return C'.
+
+        C' = 0           if C != 0, round(|dh| / K) = 0 and L > 2 T_max
+        C' = sign(dh)    if C = 0, n = round(|dh| / K) in 2..N_max and n T_min <= L <= n T_max
+        C' = C           otherwise (and whenever L is unknown)
+
+    dh is the stride's raw height change (not slope-corrected: a slope learnt on the few level
+    strides of a stairwell can be decimetres per metre off, while a misaligned IMU's slope moves
+    a stair stride by 2 cm at most), L its horizontal length, T_min, T_max
+    :data:`TREAD_RANGE_M` and N_max :data:`MAX_RISERS`. A stride longer than two treads that
+    climbed less than half a riser is level walking, where eq. 14 would count it as one riser
+    at least, or as many as its length allows (4 for a 1.4 m stride). Two or more whole risers
+    over a length that n treads fit is no level stride: a level stride reads centimetres, a
+    ramp under 1:8 at most 0.18 m over 1.4 m, and a level cycle that reads decimetres (strides
+    merged in a run, an INS glitch) is metres long. Both lines trust the INS stride: an
+    accelerometer that clips in every swing (HuGaDB's +-2 g) breaks them (README).
+    """
+    if length_m is None:
+        return mode
+    n = int(round(abs(dh_m) / step_height_m))
+    low, high = TREAD_RANGE_M
+    if mode != 0:
+        return 0 if n == 0 and length_m > 2 * high else mode
+    if 2 <= n <= MAX_RISERS and n * low <= length_m <= n * high:
+        return int(math.copysign(1, dh_m))
+    return 0
 
 
 def riser_count_bounds(length_m: Optional[float]) -> tuple:

@@ -422,6 +422,8 @@ class ClassifierNode(PersistsState, Node):
                   'bridged_cycles': tracker.bridged_cycles,
                   'unbridged_cycles': tracker.unbridged_cycles,
                   'recovered_strides': tracker.recovered_strides,
+                  'level_calls_overruled': tracker.level_calls_overruled,
+                  'stair_calls_overruled': tracker.stair_calls_overruled,
                   'implausible_cycles': tracker.implausible_cycles, 'missed_cycles': self._missed,
                   'already_counted': self._already_counted, 'malformed': self._malformed,
                   'height_m': tracker.height_m, 'floor': self._floor,
