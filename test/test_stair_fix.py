@@ -307,11 +307,11 @@ def test_a_resumed_filter_keeps_its_uncertainty_for_the_next_correction(stair_wa
         while not navigator.initialised:
             navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k], recording.gyr_b[k])
             k += 1
-        point, _ = navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k],
-                                  recording.gyr_b[k])
+        [(point, _)] = navigator.step(int(recording.stamp_ns[k]), recording.acc_b[k],
+                                      recording.gyr_b[k])
         navigator.correct_position(np.array([0.4, 0.0]), 0.3)
-        after, _ = navigator.step(int(recording.stamp_ns[k + 1]), recording.acc_b[k + 1],
-                                  recording.gyr_b[k + 1])
+        [(after, _)] = navigator.step(int(recording.stamp_ns[k + 1]), recording.acc_b[k + 1],
+                                      recording.gyr_b[k + 1])
         moves.append(after.pos_n[0] - point.pos_n[0])
     assert abs(moves[0]) < 1e-3          # a fresh start: the position is known
     gain = (0.25 / 3 + 1e-8) / (0.25 / 3 + 1e-8 + 0.09)

@@ -60,13 +60,17 @@ def attitude_at_rest(acc_mean_b: np.ndarray, yaw_rad: float) -> np.ndarray:
 
 
 @jit
-def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial, prev_sample,
-                    C_nb_out, counts, scalars, shoe_samples, shoe_sums, shoe_count, shoe_config,
-                    peaks, intensity_state, intensity_counts, gate_state, gate_config) -> int:
+def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per_s, P_initial,
+                    prev_sample, C_nb_out, counts, scalars, shoe_samples, shoe_sums, shoe_count,
+                    shoe_config, peaks, intensity_state, intensity_counts, gate_state,
+                    gate_config) -> int:
     """
     One IMU sample through S1-S3 (after start-up): mechanisation, detector, EKF.
 
-    Updates the arrays in place (layouts: the constants above, ``ShoeDetector``,
+    ``gyr_b`` is integrated; the detector, its threshold and the rail noise see
+    ``sensor_gyr_b``, the rate as the sensor gave it (they differ only where clipped samples
+    were rebuilt, ``core/gyro_rail.py``: the stances stay where they were). Updates the arrays
+    in place (layouts: the constants above, ``ShoeDetector``,
     ``GaitIntensity`` and ``core/stride_gate.py``) and writes the corrected attitude to
     ``C_nb_out``.
 
@@ -99,19 +103,21 @@ def navigation_step(stamp_ns, acc_b, gyr_b, nominal, P, phi, Q_per_s, P_initial,
     phi = ekf.error_transition_matrix(C_mid, mat_vec(C_mid, acc_mid), dt_s, phi)
     P[:, :] = ekf.predict_covariance(P, phi, Q_per_s * dt_s)
     rail = scalars[GYR_RAIL]
-    if rail > 0.0 and max(abs(gyr_b[0]), abs(gyr_b[1]), abs(gyr_b[2])) >= rail:
+    if rail > 0.0 and max(abs(sensor_gyr_b[0]), abs(sensor_gyr_b[1]),
+                          abs(sensor_gyr_b[2])) >= rail:
         ekf.clipped_gyro_noise(P, scalars[GYR_RAIL_NOISE], dt_s)
 
     # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still), then the
     # gait's structure (one stance between two swings).
-    statistic = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b, gyr_b)
+    statistic = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b,
+                            sensor_gyr_b)
     counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if statistic < scalars[THRESHOLD] else 0
     gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD],
                               counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES])
     stance = gate & 1 == 1
     if scalars[ADAPTIVE] != 0.0 and intensity_update(
             peaks, intensity_state, intensity_counts,
-            math.sqrt(gyr_b[0] ** 2 + gyr_b[1] ** 2 + gyr_b[2] ** 2)):
+            math.sqrt(sensor_gyr_b[0] ** 2 + sensor_gyr_b[1] ** 2 + sensor_gyr_b[2] ** 2)):
         law = scalars[THRESHOLD_LAW]
         scalars[THRESHOLD] = adaptive_threshold(intensity_state[0], law[0], law[1], law[2],
                                                 law[3], law[4])

@@ -50,6 +50,7 @@ from .ekf import EkfParams
 from .errors import InputError
 from .frames import dcm_to_rpy, GRAVITY_MPS2, quat_multiply, quat_to_dcm, rpy_to_dcm
 from .gait import GaitCycle, GaitParams, GaitSegmenter, MountingEstimator
+from .gyro_rail import GyroRailParams, GyroRailStage
 from .heading_aids import HeadingAider, HeadingAidParams
 from .map_frame import MapAlignment, rotate_error_covariance
 from .navigation_step import ACC_BIAS_B, ADAPTIVE, attitude_at_rest, GAPS, GRAVITY, GYR_BIAS_B
@@ -87,7 +88,9 @@ class NavigatorParams:
         exceeds this (the foot was still, not rolling through a step).
     max_gap_s : a larger interval between samples is a gap (the cycle it falls in is invalid).
     gyro_range_rps : the gyroscope's measurement range, rad/s (a rate at it is clipped, see
-        ``ekf.clipped_gyro_noise``); 0 when unknown (no clipping handled).
+        ``ekf.clipped_gyro_noise`` and ``rail``); 0 when unknown (no clipping handled).
+    rail : the saturation recovery of the clipped samples (``core/gyro_rail.py``), used only
+        when ``gyro_range_rps`` is declared.
     mounting_rpy_deg : roll, pitch, yaw (deg) of the mounting C_fb, v_f = C_fb v_b (foot frame
         x forward, y left, z up), or None for automatic mode (forward axis from the first
         strides).
@@ -99,6 +102,7 @@ class NavigatorParams:
     gait: GaitParams = field(default_factory=GaitParams)
     heading: HeadingAidParams = field(default_factory=HeadingAidParams)
     stride_gate: StrideGateParams = field(default_factory=StrideGateParams)
+    rail: GyroRailParams = field(default_factory=GyroRailParams)
     gravity_mps2: float = GRAVITY_MPS2
     rate_hz: float = 0.0
     init_stance_s: float = 0.1
@@ -143,6 +147,7 @@ class NavigatorStatus:
     initialised: bool = False
     rate_hz: float = 0.0
     samples: int = 0
+    rail_filled_samples: int = 0   # clipped gyro samples rebuilt (core/gyro_rail.py)
     stance_samples: int = 0
     zaru_samples: int = 0
     gaps: int = 0
@@ -158,8 +163,10 @@ class FootNavigator:
     """
     ZUPT-aided strapdown navigation of a foot IMU, one sample at a time.
 
-    Start-up runs here in Python; every sample after it goes through the compiled
-    ``navigation_step`` (S1-S3), then ``GaitSegmenter`` (S4).
+    With the gyro's range declared, samples first pass ``GyroRailStage``, which holds them
+    while the gyro clips and releases them rebuilt (``core/gyro_rail.py``). Start-up runs here
+    in Python; every sample after it goes through the compiled ``navigation_step`` (S1-S3),
+    then ``GaitSegmenter`` (S4).
 
     Parameters
     ----------
@@ -186,9 +193,9 @@ class FootNavigator:
     --------
     >>> nav = FootNavigator(NavigatorParams())
     >>> for stamp_ns, acc_b, gyr_b in samples:            # doctest: +SKIP
-    ...     out = nav.step(stamp_ns, acc_b, gyr_b)
-    ...     if out is not None and out[1] is not None:
-    ...         print(out[1].features)
+    ...     for point, cycle in nav.step(stamp_ns, acc_b, gyr_b):
+    ...         if cycle is not None:
+    ...             print(cycle.features)
 
     """
 
@@ -213,6 +220,9 @@ class FootNavigator:
                 or not math.isfinite(self._start_heading_rad):
             raise InputError('start position must be 3 finite numbers and heading finite')
         self._pending = deque(maxlen=RATE_ESTIMATE_SAMPLES)
+        p = self.params
+        self._rail = GyroRailStage(p.rail.range_fraction * p.gyro_range_rps, p.rail) \
+            if p.gyro_range_rps > 0.0 and p.rail.enabled else None
         self._detector = None
         self._rest = None
         self._kernel_args = None
@@ -327,7 +337,7 @@ class FootNavigator:
 
     # -- navigation ----------------------------------------------------------------------------
 
-    def step(self, stamp_ns: int, acc_b: np.ndarray, gyr_b: np.ndarray):
+    def step(self, stamp_ns: int, acc_b: np.ndarray, gyr_b: np.ndarray) -> list:
         """
         Process one IMU sample.
 
@@ -342,26 +352,52 @@ class FootNavigator:
 
         Returns
         -------
-        None while starting up, else (TrackPoint, GaitCycle or None).
+        list of (TrackPoint, GaitCycle or None)
+            One per sample navigated now, in order: this sample's alone, none while starting
+            up or while clipped gyro samples are held, and the held ones with this one when
+            they are released (``core/gyro_rail.py``).
 
         Raises
         ------
         InputError : data in the wrong units (found at start-up) or a rate out of range.
 
         """
-        status = self._status
-        status.samples += 1
-        stamp_ns = int(stamp_ns)
         # One memory layout and type, so the compiled step never needs another compilation.
+        stamp_ns = int(stamp_ns)
         acc_b = np.ascontiguousarray(acc_b, dtype=np.float64)
         gyr_b = np.ascontiguousarray(gyr_b, dtype=np.float64)
+        if self._rail is None:
+            return self._navigate([(stamp_ns, acc_b, gyr_b, gyr_b)])
+        return self._navigate(self._rail.push(stamp_ns, acc_b, gyr_b))
+
+    def flush(self) -> list:
+        """Navigate the samples held now as they came (at the end of a record); as ``step``."""
+        return [] if self._rail is None else self._navigate(self._rail.flush())
+
+    def _navigate(self, samples) -> list:
+        outputs = []
+        for sample in samples:
+            out = self._step_sample(*sample)
+            if out is not None:
+                outputs.append(out)
+        return outputs
+
+    def _step_sample(self, stamp_ns, acc_b, gyr_b, sensor_gyr_b):
+        """
+        Navigate one sample: None while starting up, else (TrackPoint, GaitCycle or None).
+
+        ``gyr_b`` is integrated; the stance detector sees ``sensor_gyr_b``, the rate as the
+        sensor gave it (they differ where clipped samples were rebuilt).
+        """
+        status = self._status
+        status.samples += 1
         if not status.initialised:
-            self._step_uninitialised(stamp_ns, acc_b, gyr_b)
+            self._step_uninitialised(stamp_ns, acc_b, sensor_gyr_b)
             if not status.initialised:
                 return None
             return self._map_point(TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
                                               self._nominal[Q_NB].copy(), True)), None
-        flags = navigation_step(stamp_ns, acc_b, gyr_b, *self._kernel_args)
+        flags = navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, *self._kernel_args)
         stance = flags & 1 == 1
         pos_n = self._nominal[POS_N].copy()
         # S4, eq. (8)-(12): gait cycles from the corrected track, cut at the gait stances.
@@ -462,6 +498,8 @@ class FootNavigator:
             status.stance_samples = int(counts[STANCE_SAMPLES])
             status.zaru_samples = int(counts[ZARU_SAMPLES])
             status.last_nis = float(self._scalars[LAST_NIS])
+        if self._rail is not None:
+            status.rail_filled_samples = self._rail.filled_samples
         return status
 
     @property
@@ -501,19 +539,19 @@ class FootNavigator:
         return yaw
 
     def run(self, stamp_ns: np.ndarray, acc_b: np.ndarray, gyr_b: np.ndarray):
-        """Batch form: a loop of ``step`` over arrays; returns (list of TrackPoint, cycles)."""
+        """
+        Batch form: a loop of ``step`` over arrays, then ``flush``.
+
+        Returns (list of TrackPoint, list of GaitCycle).
+        """
         check_gyro_rate(gyr_b)
         acc_b = np.ascontiguousarray(acc_b, dtype=np.float64)
         gyr_b = np.ascontiguousarray(gyr_b, dtype=np.float64)
-        track, cycles = [], []
+        outputs = []
         for k in range(len(stamp_ns)):
-            out = self.step(int(stamp_ns[k]), acc_b[k], gyr_b[k])
-            if out is None:
-                continue
-            track.append(out[0])
-            if out[1] is not None:
-                cycles.append(out[1])
-        return track, cycles
+            outputs += self.step(int(stamp_ns[k]), acc_b[k], gyr_b[k])
+        outputs += self.flush()
+        return [point for point, _ in outputs], [c for _, c in outputs if c is not None]
 
 
 def compile_navigator() -> float:

@@ -173,8 +173,20 @@ _DOCS = {
     'max_gap_s': ('An interval between samples longer than this is a gap: the gait cycle it '
                   'falls in is invalid, s.', 0.005, 1.0, _READ_ONLY),
     'gyro_range_rps': ('Gyroscope measurement range, rad/s: rates at it are clipped and add '
-                       'attitude noise (ekf.gyr_rail_noise_rps); 0 = unknown.', 0.0, 200.0,
+                       'attitude noise (ekf.gyr_rail_noise_rps), rebuilt with rail.enabled; 0 '
+                       '= unknown.', 0.0, 200.0, _READ_ONLY),
+    # GyroRailParams
+    'rail.enabled': ('Rebuild runs of clipped gyro samples (needs gyro_range_rps; '
+                     'core/gyro_rail.py).', None, None, _READ_ONLY),
+    'rail.fit_samples': ('A run of clipped gyro samples is rebuilt from a polynomial fitted to '
+                         'this many samples each side.', 1, 20, _READ_ONLY),
+    'rail.fit_order': ('Degree of that polynomial (less than 2 x rail.fit_samples).', 1, 5,
                        _READ_ONLY),
+    'rail.max_run_s': ('Samples are held while the gyro clips; a run longer than this is '
+                       'released as it came, s.', 0.0, 1.0, _READ_ONLY),
+    'rail.range_fraction': ('A rate at this fraction of gyro_range_rps or more is rebuilt as '
+                            'clipped (sensors compress the last per cent before the rail).',
+                            0.5, 1.0, _READ_ONLY),
     'mounting_rpy_deg': ('IMU mounting on the foot as roll, pitch, yaw, deg (as simulate '
                          '--mounting-rpy-deg; 180 0 0 is z down); empty = automatic (forward '
                          'axis from the first strides).', -360.0, 360.0, _READ_ONLY),

@@ -309,15 +309,18 @@ class ImuNode(PersistsState, Node):
                 self._fixes.refuse_before(stamp_ns)   # requests of an earlier walk
         was_initialised = self._navigator.initialised
         try:
-            out = self._navigator.step(stamp_ns, np.array(acc_b), np.array(gyr_b))
+            outputs = self._navigator.step(stamp_ns, np.array(acc_b), np.array(gyr_b))
         except InputError as err:
             self._gate.refuse_accepted(WRONG_UNITS)
             self.get_logger().error(f'IMU data refused by the navigator: {err}',
                                     throttle_duration_sec=REJECT_LOG_PERIOD_S)
             return
-        if out is None:
-            return
-        point, cycle = out
+        for point, cycle in outputs:     # several after clipped gyro samples were held
+            self._navigated(point, cycle, frame_id, was_initialised)
+            was_initialised = True
+
+    def _navigated(self, point, cycle, frame_id, was_initialised):
+        """Take one navigated sample: stair-entry corrections due, its cycle published."""
         if not was_initialised:
             status = self._navigator.status
             self.get_logger().info(f'navigation started ({status.rate_hz:.1f} Hz IMU, frame '

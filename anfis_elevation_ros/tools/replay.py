@@ -110,17 +110,22 @@ def navigated_samples(recording, gate: InputGate, navigator: FootNavigator):
     Yields
     ------
     (k, TrackPoint, GaitCycle or None)
-        Index of the sample and the navigator's output, for every sample it navigated.
+        Index of the sample and the navigator's output, for every sample it navigated. While
+        the navigator holds clipped gyro samples (``core/gyro_rail.py``) k is the index of the
+        sample that released them; those still held at the end are released as they came
+        (``FootNavigator.flush``; a live node holds them until its next sample).
 
     """
     frame_id = getattr(recording, 'frame_id', None)
     acc, gyr = np.asarray(recording.acc_b), np.asarray(recording.gyr_b)
+    k = -1
     for k, stamp_ns in enumerate(np.asarray(recording.stamp_ns).tolist()):
         if gate.check(stamp_ns, acc[k], gyr[k], frame_id) is not None:
             continue
-        out = navigator.step(stamp_ns, acc[k], gyr[k])
-        if out is not None:
-            yield k, out[0], out[1]
+        for point, cycle in navigator.step(stamp_ns, acc[k], gyr[k]):
+            yield k, point, cycle
+    for point, cycle in navigator.flush():
+        yield k, point, cycle
 
 
 def replay_recording(recording, pipeline, model, progress=None, building=None) -> ReplayResult:

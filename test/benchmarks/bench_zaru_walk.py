@@ -46,16 +46,14 @@ def trace(walk, zaru, rail_noise_rps):
     zaru_count, bias, yaw = np.zeros(n, int), np.full((n, 3), np.nan), np.full(n, np.nan)
     start, ends, end_samples = None, [], []
     for k in range(n):
-        out = nav.step(rec.stamp_ns[k], rec.acc_b[k], rec.gyr_b[k])
-        if out is None:
-            continue
-        point, cycle = out
-        start = point.pos_n[:2] if start is None else start
-        zaru_count[k], bias[k] = nav.status.zaru_samples, nav.gyro_bias_b
-        yaw[k] = dcm_to_rpy(quat_to_dcm(point.quat_nb))[2]
-        if cycle is not None:
-            ends.append(cycle.pos_n[:2] - start)
-            end_samples.append(k)
+        # Several outputs when held clipped samples are released (core/gyro_rail.py).
+        for point, cycle in nav.step(rec.stamp_ns[k], rec.acc_b[k], rec.gyr_b[k]):
+            start = point.pos_n[:2] if start is None else start
+            zaru_count[k], bias[k] = nav.status.zaru_samples, nav.gyro_bias_b
+            yaw[k] = dcm_to_rpy(quat_to_dcm(point.quat_nb))[2]
+            if cycle is not None:
+                ends.append(cycle.pos_n[:2] - start)
+                end_samples.append(k)
     return zaru_count, bias, yaw, np.array(ends), np.array(end_samples)
 
 
