@@ -18,12 +18,17 @@ Benchmark of the navigator: accuracy on real recordings and replay throughput (a
 Run from the repository root: ``python test/benchmarks/bench_accuracy.py``. Prints the pyshoe
 VICON position error (36 trials, one parameter set), the final heights on the real stair
 recordings, and IMU samples/s through the full replay pipeline (input gate, mechanisation,
-detector, EKF, features, ANFIS) on one core.
+detector, EKF, features, ANFIS) on one core. ``--gyro-range-rps R`` declares the gyro's range
+(``gyro_range_rps``, unknown by default) and ``--rail-fill`` rebuilds the clipped samples
+(``rail.enabled``, ``core/gyro_rail.py``), both on the pyshoe VICON trials (their sensor's
+range; not on the other recordings).
 """
 
-import sys
+import argparse
+from dataclasses import replace
 import time
 
+from anfis_elevation_ros.core.gyro_rail import GyroRailParams
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.params import load_model, load_pipeline_params
 from anfis_elevation_ros.core.stride_gate import StrideGateParams
@@ -51,9 +56,16 @@ def final_height(recording, params=None):
 
 
 def main():
-    # --stride-gate: the real recordings with stride_gate.enabled (core/stride_gate.py).
-    params = NavigatorParams(stride_gate=StrideGateParams(enabled='--stride-gate' in sys.argv))
-    errors = pyshoe_errors(params)
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--stride-gate', action='store_true',
+                        help='stride_gate.enabled (core/stride_gate.py)')
+    parser.add_argument('--gyro-range-rps', type=float, default=0.0,
+                        help='gyro_range_rps (the pyshoe VICON sensor clips near 9.25)')
+    parser.add_argument('--rail-fill', action='store_true', help='rail.enabled')
+    args = parser.parse_args()
+    params = NavigatorParams(stride_gate=StrideGateParams(enabled=args.stride_gate))
+    errors = pyshoe_errors(replace(params, gyro_range_rps=args.gyro_range_rps,
+                                   rail=GyroRailParams(enabled=args.rail_fill)))
     print(f'pyshoe VICON, {len(errors)} trials: median {np.median(errors):.3f} m, mean '
           f'{errors.mean():.3f} m, max {errors.max():.3f} m, {np.sum(errors > 0.2)} above 0.2 m')
     for path in dataset_files('mad_stairs'):

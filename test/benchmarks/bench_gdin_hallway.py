@@ -20,7 +20,8 @@ cycles against ``numberOfStrides``, the final-position error as % of the path (t
 through the stride positions), and the mean error of the stride-end positions (only when every
 stride was detected, so that cycle i is stride i), for the plain filter and with each heading
 aid (``heading.zaru_enabled``, ``heading.hde_enabled``, both) side by side, with the gyro's
-range declared (``gyro_range_rps``: clipped samples add attitude noise). The track's
+range declared (``gyro_range_rps``: clipped samples add attitude noise; with ``--rail-fill``
+they are rebuilt first, ``rail.enabled``, ``core/gyro_rail.py``). The track's
 heading is aligned to the truth on the first ``ALIGN_CYCLES`` cycle ends (least-squares
 rotation about the start): the IMU's initial heading is unknown, as in any foot-mounted INS
 benchmark. Each cycle end is paired with the truth polyline's point at the same distance walked,
@@ -29,6 +30,7 @@ so a first cycle that spans two strides is fitted to the second stride's end, no
 
 import sys
 
+from anfis_elevation_ros.core.gyro_rail import GyroRailParams
 from anfis_elevation_ros.core.heading_aids import HeadingAidParams
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.stride_gate import StrideGateParams
@@ -81,6 +83,7 @@ def walk_figures(walk, params):
 def main():
     # --stride-gate: with stride_gate.enabled (core/stride_gate.py).
     gate = StrideGateParams(enabled='--stride-gate' in sys.argv)
+    rail = GyroRailParams(enabled='--rail-fill' in sys.argv)
     finals = {name: [] for name in AIDS}
     print('walk cycles/strides path_m | final % of path, mean stride error m: '
           + ' | '.join(AIDS))
@@ -90,7 +93,7 @@ def main():
         for name, aid in AIDS.items():
             cycles, final_pct, mean_m = walk_figures(
                 walk, NavigatorParams(heading=aid, gyro_range_rps=GYRO_RANGE_RPS,
-                                      stride_gate=gate))
+                                      stride_gate=gate, rail=rail))
             finals[name].append(final_pct)
             row.append(f'{final_pct:5.1f} {mean_m:5.2f}')
         print(f'{path.stem[-2:]} {cycles:4d}/{walk.n_strides:<4d} {walk.path_length_m:6.1f} | '
