@@ -15,6 +15,8 @@
 """
 The live nodes over DDS equal offline replay, cycle for cycle, for sqlite3 and mcap bags.
 
+And for a bag whose gyro clips, with its samples held and rebuilt (``rail.enabled``).
+
 Three processes per bag: ``run`` (both nodes), ``play`` (the bag, at most 1000 messages/s,
 which a Python node follows on a loaded machine), and this test, which subscribes to the
 outputs. The same bag through ``replay`` (the same core objects, no ROS) gives cycles.csv;
@@ -26,25 +28,33 @@ nodes must stop cleanly on SIGINT.
 """
 
 import csv
+from dataclasses import replace
 import subprocess
 
 from anfis_elevation_ros.tools.bags import read_imu_bag, write_imu_bag
 from live_support import cli, cli_env, NodesProcess, PACKAGE_ROOT, SAMPLE_BAG, truth_floors
 from live_support import listening, wait_for, write_linear_model, write_params
+import numpy as np
 import pytest
 
 PLAY_MAX_RATE_HZ = 1000.0
 IMU_INPUT = '/imu_node: IMU input'
+# The sample walk with its gyro clipped at 0.99 x 7 rad/s (82 samples): held and rebuilt.
+CLIPPED_RANGE_RPS = 7.0
+REBUILT_RAIL = {'gyro_range_rps': CLIPPED_RANGE_RPS, 'rail.enabled': True}
 
 
 @pytest.fixture(scope='module')
 def workspace(tmp_path_factory):
-    """Write a known model, its parameter file, and the sample walk as mcap and sqlite3."""
+    """Write a known model and the sample walk: mcap, sqlite3, and with a clipped gyro."""
     root = tmp_path_factory.mktemp('live')
     model = write_linear_model(root / 'model.json')
     recording = read_imu_bag(SAMPLE_BAG)
+    rail_rps = 0.99 * CLIPPED_RANGE_RPS
+    clipped = replace(recording, gyr_b=np.clip(recording.gyr_b, -rail_rps, rail_rps))
     bags = {'mcap': SAMPLE_BAG,
-            'sqlite3': write_imu_bag(root / 'imu_sqlite3', recording, storage='sqlite3')}
+            'sqlite3': write_imu_bag(root / 'imu_sqlite3', recording, storage='sqlite3'),
+            'clipped': write_imu_bag(root / 'imu_clipped', clipped)}
     return {'root': root, 'model': model, 'bags': bags, 'messages': len(recording)}
 
 
@@ -72,12 +82,14 @@ def reset(listener):
     listener.diagnostics.clear()
 
 
-@pytest.mark.parametrize('storage', ['sqlite3', 'mcap'])
-def test_live_nodes_equal_offline_replay(storage, workspace, listener, tmp_path):
+@pytest.mark.parametrize('storage, imu', [('sqlite3', None), ('mcap', None),
+                                          ('clipped', REBUILT_RAIL)],
+                         ids=['sqlite3', 'mcap', 'clipped-rebuilt'])
+def test_live_nodes_equal_offline_replay(storage, imu, workspace, listener, tmp_path):
     """Every valid cycle, in order, with the stamp, height and x, y of offline replay."""
     # Parameters of this test alone: a state of its own (a run of the same bag would resume).
     bag, params = workspace['bags'][storage], write_params(tmp_path / 'params.yaml',
-                                                           workspace['model'])
+                                                           workspace['model'], imu=imu)
     expected = offline_cycles(bag, params, tmp_path / 'replay')
     assert len(expected) > 30, 'the sample walk should give dozens of gait cycles'
     reset(listener)
