@@ -16,8 +16,9 @@
 Where ZARU changes a gdin_hallway walk: its stands, the learned gyro bias and the heading.
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_zaru_walk.py
-[--walk 35] [--rail-noise 0.5]``. The walk goes through the navigator twice (heading aids
-off, then ZARU alone; gyro range declared, as in ``bench_gdin_hallway.py``), and prints: the
+[--walk 35] [--rail-noise 0.5] [--rail-fill]``. The walk goes through the navigator twice
+(heading aids off, then ZARU alone; gyro range declared, as in ``bench_gdin_hallway.py``;
+``--rail-fill``: clipped samples rebuilt, ``rail.enabled``), and prints: the
 samples at the gyro's rail per axis and sign; every run of samples where ZARU fired (time,
 samples, mean rate, z bias before and after); at each gait-cycle end, the cycle's length, the
 learned gyro bias of both runs and their yaw difference; the final error as % of the path.
@@ -28,6 +29,7 @@ import math
 
 from anfis_elevation_ros.core.ekf import EkfParams
 from anfis_elevation_ros.core.frames import dcm_to_rpy, quat_to_dcm
+from anfis_elevation_ros.core.gyro_rail import GyroRailParams
 from anfis_elevation_ros.core.heading_aids import HeadingAidParams
 from anfis_elevation_ros.core.navigator import FootNavigator, GYR_RAIL_FRACTION, NavigatorParams
 from anfis_elevation_ros.tools.datasets import shared_data_dir
@@ -36,24 +38,27 @@ from bench_gdin_hallway import aligned
 import numpy as np
 
 
-def trace(walk, zaru, rail_noise_rps):
+def trace(walk, zaru, rail_noise_rps, rail_fill):
     """Run the walk; return per-sample ZARU count, z bias and yaw, and the cycles' ends."""
     params = NavigatorParams(heading=HeadingAidParams(hde_enabled=False, zaru_enabled=zaru),
                              gyro_range_rps=GYRO_RANGE_RPS,
-                             ekf=EkfParams(gyr_rail_noise_rps=rail_noise_rps))
+                             ekf=EkfParams(gyr_rail_noise_rps=rail_noise_rps),
+                             rail=GyroRailParams(enabled=rail_fill))
     nav, rec = FootNavigator(params), walk.recording
     n = len(rec.stamp_ns)
     zaru_count, bias, yaw = np.zeros(n, int), np.full((n, 3), np.nan), np.full(n, np.nan)
     start, ends, end_samples = None, [], []
     for k in range(n):
-        # Several outputs when held clipped samples are released (core/gyro_rail.py).
+        # Held clipped samples come out together when released (core/gyro_rail.py): each at
+        # its own index, with the state after the release (ZARU never fires in a swing).
         for point, cycle in nav.step(rec.stamp_ns[k], rec.acc_b[k], rec.gyr_b[k]):
+            i = int(np.searchsorted(rec.stamp_ns, point.stamp_ns))
             start = point.pos_n[:2] if start is None else start
-            zaru_count[k], bias[k] = nav.status.zaru_samples, nav.gyro_bias_b
-            yaw[k] = dcm_to_rpy(quat_to_dcm(point.quat_nb))[2]
+            zaru_count[i], bias[i] = nav.status.zaru_samples, nav.gyro_bias_b
+            yaw[i] = dcm_to_rpy(quat_to_dcm(point.quat_nb))[2]
             if cycle is not None:
                 ends.append(cycle.pos_n[:2] - start)
-                end_samples.append(k)
+                end_samples.append(i)
     return zaru_count, bias, yaw, np.array(ends), np.array(end_samples)
 
 
@@ -68,6 +73,7 @@ def main():
     parser.add_argument('--walk', default='35', help='walk number (default 35)')
     parser.add_argument('--rail-noise', type=float, default=EkfParams().gyr_rail_noise_rps,
                         help='ekf.gyr_rail_noise_rps, rad/s')
+    parser.add_argument('--rail-fill', action='store_true', help='rail.enabled')
     args = parser.parse_args()
     walk = load_gdin_walk(
         shared_data_dir() / 'gdin_hallway' / f'SensorConnectData_{args.walk}.csv')
@@ -76,8 +82,8 @@ def main():
     rail = GYR_RAIL_FRACTION * GYRO_RANGE_RPS
     print('samples at the rail (+, -) per axis x, y, z:',
           [(int(np.sum(g >= rail)), int(np.sum(g <= -rail))) for g in rec.gyr_b.T])
-    plain = trace(walk, False, args.rail_noise)
-    zaru = trace(walk, True, args.rail_noise)
+    plain = trace(walk, False, args.rail_noise, args.rail_fill)
+    zaru = trace(walk, True, args.rail_noise, args.rail_fill)
     count, bias = zaru[0], np.degrees(zaru[1])
     print('ZARU runs: t0-t1 s, samples, mean rate x y z deg/s, z bias before -> after deg/s')
     for first, stop in runs(np.diff(count, prepend=0) > 0):
