@@ -32,7 +32,7 @@ so is every rail sample after it until the gyro leaves the rail (the EKF's rail 
 peak is too far from the samples that would fit it. Each released sample carries the rate as
 the sensor gave it too: the navigator integrates the rebuilt rate, while its stance detector
 and the threshold's gait intensity keep the sensor's (fed the rebuilt peaks, the adaptive
-threshold rose by up to 70 % and cut an extra cycle on walks 34 and 43).
+threshold rose by up to 74 % and cut an extra cycle on walks 34 and 43).
 
 Public API: ``GyroRailParams``, ``fill_rail_run``, ``GyroRailStage``.
 """
@@ -63,7 +63,7 @@ class GyroRailParams:
 
     Notes
     -----
-    Chosen on gdin_hallway walks 34 and 35 (fit_samples 2-8, degree 1-3, max_run_s
+    Chosen on gdin_hallway walks 34 and 35 (fit_samples 2-4, degree 1-3, max_run_s
     0.05-0.2 s, range_fraction 0.97-0.99): walk 35 ends 1.9 % of the path off instead of
     12.7 % (plain filter), 1.6 % instead of 14.3 % with both heading aids; max_run_s holds
     from 0.07 to 0.11 s (longer: the running strides' 0.13-0.18 s plateaus are extrapolated
