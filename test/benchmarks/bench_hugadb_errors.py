@@ -41,6 +41,9 @@ default training options), scored with sigma_th chosen inside the training folds
 - ``gate_loso``: leave-one-subject-out of the used cycles, gate off and on (every simulated run
   in every training set, sigma_th 0.45: a quick check, not the ``train`` folds): accuracy of
   the cycles both detectors cut (start and end within 0.2 s) and of those only one cuts.
+- ``decision``: the forest's out-of-fold class probabilities in the ``train`` folds (simulated
+  seeds 1-40 + HuGaDB, then HuGaDB alone), HuGaDB accuracy and recall per mode when the mode is
+  the largest probability and when it is eq. (13) on P(up) - P(down) at several sigma_th.
 
 Navigator outputs are cached as in ``train`` (``--cache-dir``).
 """
@@ -401,6 +404,35 @@ def print_gate_loso(args):
               f'confusion (rows true -1/0/+1) {alone_confusion.tolist()}')
 
 
+def print_decision(args):
+    """Print the forest's HuGaDB accuracy and recalls by largest probability and by eq. 13."""
+    rules, options = train.LabelRules(), train.TrainOptions(backend='forest')
+    specs = [train.sim_spec(seed) for seed in range(1, 41)] + train.hugadb_specs(args.hugadb)
+    every = [s for s in train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
+                                      train.Progress(args.quiet)) if len(s.labels)]
+    print('\nForest decision rule, leave-one-subject-out in the train folds, HuGaDB cycles '
+          '(accuracy, recall down / level / up, confusion rows true -1/0/+1):')
+    for title, sets in (('simulated + HuGaDB', every),
+                        ('HuGaDB alone', [s for s in every if s.source == 'hugadb'])):
+        folds, _ = train.assign_folds(sets, 'subject', 0, 0)
+        features, labels, owner = train.stack(sets)
+        cycle_fold = folds[owner]
+        proba = np.empty((len(labels), 3))
+        for k in range(int(folds.max()) + 1):
+            test = cycle_fold == k
+            model = train.fit_model(features[~test], labels[~test], options)
+            proba[test] = model.predict_proba(features[test])
+        hugadb = np.array([sets[i].source == 'hugadb' for i in owner])
+        decisions = [('largest probability', np.array(lab.MODES)[np.argmax(proba, axis=1)])]
+        decisions += [(f'sigma_th {t:g}', stair_mode(proba[:, 2] - proba[:, 0], t))
+                      for t in (0.3, 0.4, 0.45, 0.5)]
+        for name, predicted in decisions:
+            matrix = confusion_matrix(labels[hugadb], predicted[hugadb])
+            recall = np.diag(matrix) / matrix.sum(axis=1)
+            print(f'  {title:18s} {name:20s} {np.mean(labels[hugadb] == predicted[hugadb]):.4f}  '
+                  f'{"/".join(f"{r:.3f}" for r in recall)}  {matrix.tolist()}')
+
+
 def _distance_ns(stamps_ns, stamp_ns) -> float:
     """Return the distance of a stamp to the nearest of others (inf when none), ns."""
     return float(np.min(np.abs(stamps_ns - stamp_ns))) if len(stamps_ns) else np.inf
@@ -438,6 +470,8 @@ def main(argv=None) -> int:
         print_gate(args)
     if 'gate_loso' in parts:
         print_gate_loso(args)
+    if 'decision' in parts:
+        print_decision(args)
     return 0
 
 
