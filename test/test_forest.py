@@ -22,8 +22,9 @@ from anfis_elevation_ros.core.anfis import Anfis, grid_partition
 from anfis_elevation_ros.core.classifier import AnfisClassifier, backend_name, load_classifier
 from anfis_elevation_ros.core.classifier import warm_up
 from anfis_elevation_ros.core.errors import InputError
-from anfis_elevation_ros.core.forest import Forest
+from anfis_elevation_ros.core.forest import Forest, majority_vote_output
 from anfis_elevation_ros.core.gait import feature_index, N_FEATURES, PATENT_FEATURE_NAMES
+from anfis_elevation_ros.core.stair_steps import stair_mode
 from anfis_elevation_ros.tools.train_forest import fit_forest, FOREST_FEATURE_NAMES, \
     ForestOptions
 import numpy as np
@@ -60,7 +61,21 @@ def test_json_inference_equals_scikit_learn_on_every_sample(trained, tmp_path):
     loaded = load_classifier(path)
     assert isinstance(loaded, Forest) and loaded.metadata_['mode_threshold'] == 0.4
     np.testing.assert_array_equal(loaded.predict_proba(features), expected)
-    np.testing.assert_array_equal(loaded.predict(features), expected[:, 2] - expected[:, 0])
+    # Eq. 13 at sigma_th 0 on the output is scikit-learn's decision, the majority vote.
+    output = loaded.predict(features)
+    sklearn_modes = estimator.predict(features[:, feature_index(FOREST_FEATURE_NAMES)])
+    np.testing.assert_array_equal(stair_mode(output, 0.0), sklearn_modes)
+    np.testing.assert_array_equal(np.abs(output), np.where(sklearn_modes == 0, 0.0,
+                                                           expected.max(axis=1)))
+
+
+def test_the_output_is_the_vote_signed_with_its_share():
+    proba = np.array([[0.5, 0.3, 0.2], [0.2, 0.45, 0.35], [0.1, 0.3, 0.6], [0.4, 0.2, 0.4],
+                      [0.34, 0.33, 0.33]])
+    np.testing.assert_allclose(majority_vote_output(proba), [-0.5, 0.0, 0.6, -0.4, -0.34])
+    # Below 1/3, sigma_th changes nothing: a vote for up or down has over a third of the trees.
+    for threshold in (0.0, 0.2, 0.33):
+        assert stair_mode(majority_vote_output(proba), threshold).tolist() == [-1, 0, 1, -1, -1]
 
 
 def test_fit_forest_learns_the_modes():
@@ -94,9 +109,9 @@ def test_a_damaged_forest_file_is_refused(trained, tmp_path, damage):
         elif damage == 'sha256':
             doc['sha256'] = '0' * 64
         else:
-            doc['version'] = 2
+            doc['version'] = 1          # P(up) - P(down) with its own sigma_th: retrain
         path.write_text(json.dumps(doc))
-        match = 'version 2' if damage == 'version' else 'sha256'
+        match = 'version 1' if damage == 'version' else 'sha256'
     with pytest.raises(InputError, match=match):
         load_classifier(path)
 

@@ -293,7 +293,8 @@ def test_small_forest_training_run(tmp_path):
     assert isinstance(model, Forest) and len(model.roots) == 10
     assert '--backend forest --trees 10' in model.metadata_['command']
     assert model.metadata_['training']['forest']['n_trees'] == 10
-    assert model.metadata_['mode_threshold'] in train.THRESHOLD_GRID
+    assert model.metadata_['mode_threshold'] == 0.0                 # the majority vote
+    assert model.metadata_['cv']['threshold_grid'] == [0.0]
 
 
 # ----------------------------------------------------------------------------- default model
@@ -307,7 +308,7 @@ def test_default_model_records_its_command_and_is_current(default_model):
     meta = default_model.metadata_
     assert meta['command'] == train.DEFAULT_COMMAND
     assert default_model.feature_names == FOREST_FEATURE_NAMES
-    assert meta['mode_threshold'] in train.THRESHOLD_GRID
+    assert meta['mode_threshold'] == 0.0                              # the majority vote
     assert meta['data']['sim_seeds'] == list(range(1, 41))
     assert meta['cv']['scheme'] == 'subject'
     # Floors a few points under the measured CV figures (sim 1.0000, HuGaDB 0.937).

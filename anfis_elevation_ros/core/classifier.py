@@ -22,7 +22,8 @@ name:
 
 - :class:`AnfisClassifier`: the patent's ANFIS (``core/anfis.py``) on eq. (8)-(12);
 - :class:`~anfis_elevation_ros.core.forest.Forest`: seed 001's random forest on eleven motion
-  features and the height change; its output is P(up) - P(down).
+  features and the height change; its output is its majority vote, signed, with its share
+  of the votes (``core/forest.py``, ``majority_vote_output``).
 
 :func:`load_classifier` reads a model file and picks the backend by its ``format`` key. The
 elevation tracker, the classifier node, ``replay`` and ``train`` all use it.

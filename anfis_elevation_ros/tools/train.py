@@ -120,7 +120,11 @@ DEFAULT_EPOCHS = 3
 DEFAULT_TRAIN_RIDGE = 1e-3
 DEFAULT_RANGE_QUANTILE = 0.005
 THRESHOLD_GRID = tuple(round(0.05 * k, 2) for k in range(1, 20))
-"""Candidate sigma_th of eq. 13 (0.05 ... 0.95): ElevationParams accepts [0, 1]."""
+"""Candidate sigma_th of eq. 13 for the ANFIS (0.05 ... 0.95): ElevationParams accepts [0, 1]."""
+FOREST_THRESHOLD_GRID = (0.0,)
+"""sigma_th of a forest: 0, seed 001's majority vote (``core/forest.py``, majority_vote_output).
+Chosen for accuracy on a grid, sigma_th gave up recall of stairs up on HuGaDB's new wearers
+(``bench_hugadb_errors.py --parts decision``)."""
 CACHE_VERSION = 1
 PIPELINE_MODULES = ('core.input_gate', 'core.navigator', 'core.imu_data')
 """Modules whose source, with that of every module of the package they import, keys the cache."""
@@ -956,6 +960,8 @@ def nested_threshold_cv(sets: list, folds: np.ndarray, options: TrainOptions,
     n_folds = int(folds.max()) + 1
     if n_folds < 3:
         return None, None
+    if len(grid) == 1:                  # nothing to choose: no inner fits
+        return np.full(n_folds, float(grid[0])), stair_mode(output, float(grid[0]))
     thresholds = np.empty(n_folds)
     predicted = np.empty(len(labels), dtype=np.int64)
     for k in range(n_folds):
@@ -985,7 +991,7 @@ def summarise(labels: np.ndarray, predicted: np.ndarray) -> dict:
 
 
 def cv_report(sets, folds, fold_names, output, threshold, accuracies,
-              nested=(None, None)) -> dict:
+              nested=(None, None), grid=THRESHOLD_GRID) -> dict:
     """
     Cross-validation results: pooled, per source, per fold, per subject, non-stride cycles.
 
@@ -999,7 +1005,7 @@ def cv_report(sets, folds, fold_names, output, threshold, accuracies,
     source = np.array([sets[i].source for i in owner])
     subject = np.array([sets[i].subject for i in owner])
     cycle_fold = folds[owner]
-    report = {'threshold_grid': list(THRESHOLD_GRID),
+    report = {'threshold_grid': list(grid),
               'grid_accuracy': [round(a, 6) for a in accuracies],
               'all': summarise(labels, predicted),
               'strides_only': summarise(labels[~non_stride], predicted[~non_stride]),
@@ -1116,7 +1122,8 @@ def add_parser(subparsers):
     fit.add_argument('--range-quantile', type=float, default=DEFAULT_RANGE_QUANTILE,
                      help='input universe = [q, 1-q] quantiles of the training features')
     fit.add_argument('--threshold', type=float, default=None,
-                     help='fixed sigma_th of eq. 13 instead of the CV-best grid value')
+                     help='fixed sigma_th of eq. 13 instead of the CV-best grid value (ANFIS) '
+                     'or 0, the majority vote (forest)')
     fit.add_argument('--seed', type=int, default=0, help='seed of the CV fold assignment')
     fit.add_argument('--params', type=Path, default=None,
                      help='ROS 2 parameter YAML of the nodes (config/params.yaml): its imu_node '
@@ -1200,18 +1207,19 @@ def run_train(args) -> int:
 
     cv = None
     threshold = args.threshold
+    grid = FOREST_THRESHOLD_GRID if options.backend == 'forest' else THRESHOLD_GRID
     if args.cv != 'none':
         folds, fold_names = assign_folds(sets, args.cv, args.folds, args.seed)
         output = cross_validate(sets, folds, options, progress)
-        best, accuracies = choose_threshold(labels, output)
+        best, accuracies = choose_threshold(labels, output, grid)
         threshold = best if threshold is None else threshold
-        nested = nested_threshold_cv(sets, folds, options, output, progress) \
+        nested = nested_threshold_cv(sets, folds, options, output, progress, grid) \
             if args.threshold is None else (None, None)
-        cv = cv_report(sets, folds, fold_names, output, threshold, accuracies, nested)
+        cv = cv_report(sets, folds, fold_names, output, threshold, accuracies, nested, grid)
         cv['scheme'] = args.cv
         cv['folds'] = len(fold_names)
     elif threshold is None:
-        threshold = 0.5
+        threshold = grid[0] if len(grid) == 1 else 0.5
     model = fit_model(features, labels, options)
     metadata = {
         'command': reproducing_command(args, args.train_defaults),
