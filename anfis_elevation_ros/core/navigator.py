@@ -367,7 +367,8 @@ class FootNavigator:
         acc_b = np.ascontiguousarray(acc_b, dtype=np.float64)
         gyr_b = np.ascontiguousarray(gyr_b, dtype=np.float64)
         if self._rail is None:
-            return self._navigate([(stamp_ns, acc_b, gyr_b, gyr_b)])
+            out = self._step_sample(stamp_ns, acc_b, gyr_b, gyr_b)
+            return [] if out is None else [out]
         return self._navigate(self._rail.push(stamp_ns, acc_b, gyr_b))
 
     def flush(self) -> list:
