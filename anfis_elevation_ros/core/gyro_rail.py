@@ -67,9 +67,9 @@ class GyroRailParams:
     0.05-0.2 s, range_fraction 0.97-0.99): walk 35 ends 1.9 % of the path off instead of
     12.7 % (plain filter), 1.6 % instead of 14.3 % with both heading aids; max_run_s holds
     from 0.07 to 0.11 s (longer: the running strides' 0.13-0.18 s plateaus are extrapolated
-    too far). Off by default: walk 43, held out, ends worse (both aids 0.7 -> 1.2 %), and 38
-    a little (0.3 -> 0.4 %), although the pyshoe VICON trials gain (``README.md``,
-    gdin_hallway).
+    too far). Off by default: walk 43, held out, ends worse (both aids 1.0 -> 1.5 %; with the
+    stride gate its mean stride error 0.83 -> 0.96 m), and 38 a little (1.0 -> 1.1 %),
+    although the pyshoe VICON trials gain (``README.md``, gdin_hallway).
 
     """
 
