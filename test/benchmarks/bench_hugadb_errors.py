@@ -54,6 +54,7 @@ import dataclasses
 from pathlib import Path
 import sys
 
+from anfis_elevation_ros.core.forest import majority_vote_output
 from anfis_elevation_ros.core.height import stair_mode
 from anfis_elevation_ros.core.input_gate import InputGate
 from anfis_elevation_ros.core.navigator import FootNavigator
@@ -423,7 +424,7 @@ def print_decision(args):
             model = train.fit_model(features[~test], labels[~test], options)
             proba[test] = model.predict_proba(features[test])
         hugadb = np.array([sets[i].source == 'hugadb' for i in owner])
-        decisions = [('largest probability', np.array(lab.MODES)[np.argmax(proba, axis=1)])]
+        decisions = [('largest probability', stair_mode(majority_vote_output(proba), 0.0))]
         decisions += [(f'sigma_th {t:g}', stair_mode(proba[:, 2] - proba[:, 0], t))
                       for t in (0.3, 0.4, 0.45, 0.5)]
         for name, predicted in decisions:
