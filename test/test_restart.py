@@ -60,6 +60,7 @@ STEP_M = 0.15
 RATE_HZ = 100.0
 PLAY_RATE = 4.0
 IMU_INPUT = '/imu_node: IMU input'
+CLASSIFIER_OUTPUT = '/classifier_node: elevation'
 
 
 @pytest.fixture(scope='module')
@@ -275,6 +276,9 @@ def test_a_second_play_of_the_same_walk_starts_fresh(walk, ros):
         classifier = NodeProcess('classifier_node', params, params.parent / f'cls{run}.log')
         ros['processes'] += [imu, classifier.start()]
         known = wait_connected(player, listener, known)
+        # /elevation keeps only its latest value: a cycle published before the classifier and
+        # the listener know of each other is lost, so wait until the classifier is heard.
+        assert wait_for(lambda: CLASSIFIER_OUTPUT in listener.diagnostics, 30.0)
         listener.elevations.clear()
         play(player, rec, 0, cut)
         if heights:                                 # the second play reaches the first's end
@@ -286,9 +290,12 @@ def test_a_second_play_of_the_same_walk_starts_fresh(walk, ros):
     assert 'starting fresh: the sensor stamps begin' in imu.log()
     assert 'starting fresh: the gait cycles belong to another walk' in classifier.log()
     first, second = heights
-    assert max(first.values()) >= 1.0 and len(second) >= 0.8 * len(first)
-    assert all(abs(height - first[stamp]) < 1e-9 for stamp, height in second.items()), \
-        [(stamp, height, first.get(stamp)) for stamp, height in second.items()]
+    # A listener of a latest-value topic may miss a cycle of a burst in either play: compare
+    # the cycles both plays heard.
+    both = sorted(first.keys() & second.keys())
+    assert max(first.values()) >= 1.0 and len(both) >= 0.8 * len(first)
+    assert all(abs(second[stamp] - first[stamp]) < 1e-9 for stamp in both), \
+        [(stamp, second[stamp], first[stamp]) for stamp in both]
 
 
 def test_supervisor_restart_mid_flight_with_a_building_file(walk, ros):
