@@ -159,6 +159,11 @@ def test_level_slope_is_the_median_height_per_metre():
     assert slope.slope == pytest.approx(0.029 / 1.4 * 1.0, rel=0.05)
     assert slope.corrected(0.30 + 0.56 * slope.slope, 0.56) == pytest.approx(0.30)
     assert slope.corrected(0.31, None) == 0.31
+    # The slope follows the walk: 14 strides at -0.03 m/m, then 9 at 0 (random walk 67,
+    # consumer IMU, where the filter's tilt estimate moved after a turn on the spot).
+    for dh in [-0.042] * 14 + [0.0] * 9:
+        slope.add_level(dh, 1.4)
+    assert slope.slope == 0.0
 
 
 def test_flights_of_one_riser_height_share_a_stairwell_another_gets_its_own():

@@ -76,8 +76,14 @@ STRIDE_SIGMA_M = 0.01
 PRIOR_SIGMA_M = 0.02
 """Sigma of the prior around ``elevation.step_height_m``, m: weak, a few strides override it."""
 
-SLOPE_STRIDES = 64
-"""Level strides behind the slope correction (:class:`LevelSlope`)."""
+SLOPE_STRIDES = 8
+"""
+Level strides behind the slope correction (:class:`LevelSlope`): the latest only, because the
+slope moves during a walk as the filter's tilt and accelerometer bias estimates move (random
+walk 67, consumer IMU: -0.03 m/m for 14 strides, about 0 after a turn on the spot; with the
+last 64, K came out 0.132 m for 0.1405 m). Chosen from 8, 16 and 64 on random walks 14-20 and
+51-80 (README).
+"""
 
 SLOPE_MIN_LENGTH_M = 0.5
 """Shorter level strides (turns, shuffles) say little about the slope, m."""
@@ -521,7 +527,8 @@ class LevelSlope:
     Height error of the raw INS per horizontal metre, learnt from level strides.
 
     A misaligned accelerometer (a cross-axis term) turns forward motion into a height error
-    per forward metre, one constant per walk, which no zero-velocity update sees; it makes
+    per forward metre, which no zero-velocity update sees (constant for a fixed tilt error,
+    but the filter's tilt and bias estimates move during a walk); it makes
     strides up look taller than strides down by 2 c L. On level strides the true height change
     is 0, so (:func:`level_slope`) c = median_i dh_i / L_i over the last :data:`SLOPE_STRIDES`
     level strides of at least :data:`SLOPE_MIN_LENGTH_M`; a stair stride is then corrected
