@@ -85,7 +85,11 @@ def building(elevations_m, k_m=None) -> object:
 
 
 def replay(walk, the_building=None):
-    """Replay a walk with the default parameters; return per-cycle arrays and truth."""
+    """
+    Replay a walk with the default parameters; return per-cycle arrays and truth.
+
+    Also the raw INS height, the cycles' stamps (ns) and the ``ReplayResult`` itself.
+    """
     result = replay_recording(walk.to_recording(), PIPELINE, MODEL, building=the_building)
     rows = np.array([[float(v) for v in row] for row in result.cycles])
     stamp = np.array([row[0] for row in result.cycles], dtype=np.int64)
@@ -95,7 +99,8 @@ def replay(walk, the_building=None):
             'certain': rows[:, COLUMN['floor_certain']].astype(bool),
             'k': rows[:, COLUMN['step_height_m']], 'mode': rows[:, COLUMN['mode']].astype(int),
             'true_height': strides.height_m[k], 'true_mode': strides.mode[k],
-            'stamp_s': (stamp - stamp[0]) * 1e-9}
+            'stamp_s': (stamp - stamp[0]) * 1e-9, 'stamp_ns': stamp,
+            'raw_height': rows[:, COLUMN['raw_height_m']], 'result': result}
 
 
 def tower(floors, k_m, imu, seed, route=None):

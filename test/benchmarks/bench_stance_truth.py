@@ -29,18 +29,17 @@ Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_stance
   faster than 0.5 m/s cuts the stride in two and stops the INS);
 - the cycles shorter than 0.5 s (a stride cut in two) and the walk's largest height error.
 
-The truth of a cycle is the last true stride ending up to 0.2 s after it, as in
-``bench_riser_height.py``.
+The cycles and their truth come from ``bench_riser_height.replay`` (the last true stride
+ending up to 0.2 s after a cycle).
 """
 
 import argparse
 
 from anfis_elevation_ros import sim
-from anfis_elevation_ros.core.params import load_model, load_pipeline_params
-from anfis_elevation_ros.tools.replay import CYCLE_COLUMNS, replay_recording
+from bench_riser_height import replay
+from bench_vertical import stance_runs
 import numpy as np
 
-COLUMN = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
 STAIR_DH_M = 0.05           # a true stride climbing more than this is a stair stride
 SHORT_CYCLE_S = 0.5
 FAST_MPS = 0.5              # a ZUPT on a foot this fast stops the INS mid-stride
@@ -58,9 +57,8 @@ def height_errors_by_place(true_dh: np.ndarray, raw_dh: np.ndarray) -> dict:
 
 def false_stances(detected: np.ndarray, still: np.ndarray) -> tuple:
     """Split detected stance samples of a moving foot: (lagging a true stance, in mid-swing)."""
-    runs = np.flatnonzero(np.diff(np.r_[0, detected.astype(np.int8), 0]))
     lagging = np.zeros_like(detected)
-    for start, stop in zip(runs[::2], runs[1::2]):
+    for start, stop in zip(*stance_runs(detected)):
         if still[start:stop].any():
             lagging[start:stop] = ~still[start:stop]
     return lagging, detected & ~still & ~lagging
@@ -76,16 +74,13 @@ def main(argv=None) -> int:
     walk = sim.simulate_walk(sim.random_walk(args.duration_s, np.random.default_rng(args.seed)),
                              rng=np.random.default_rng(args.seed), rate_hz=args.rate_hz,
                              imu=args.imu)
-    result = replay_recording(walk.to_recording(), load_pipeline_params(), load_model(''))
-    rows = np.array([[float(v) for v in row] for row in result.cycles])
-    stamp_ns = np.array([row[0] for row in result.cycles], dtype=np.int64)
-    truth = np.searchsorted(walk.strides.stamp_ns, stamp_ns + 200_000_000, side='right') - 1
-    true_height = walk.strides.height_m[truth]
+    out = replay(walk)
+    result, stamp_ns = out['result'], out['stamp_ns']
     print(f'random_walk seed {args.seed}, {args.imu} IMU at {args.rate_hz:.0f} Hz, '
-          f'{len(rows)} cycles')
+          f'{len(stamp_ns)} cycles')
     print('raw INS height change minus the true one, by place:')
     for place, errors in height_errors_by_place(
-            np.diff(true_height), np.diff(rows[:, COLUMN['raw_height_m']])).items():
+            np.diff(out['true_height']), np.diff(out['raw_height'])).items():
         if not len(errors):
             continue
         print(f'  {place:22s} {len(errors):4d} cycles  mean {1e3 * errors.mean():+6.1f} mm  '
@@ -103,7 +98,7 @@ def main(argv=None) -> int:
               f'true speed {speed[k]:.2f} m/s')
     cycle_s = np.diff(stamp_ns) * 1e-9
     print(f'cycles shorter than {SHORT_CYCLE_S} s: {int(np.sum(cycle_s < SHORT_CYCLE_S))}')
-    error = rows[:, COLUMN['height_m']] - true_height
+    error = out['height'] - out['true_height']
     worst = int(np.argmax(np.abs(error)))
     print(f'largest height error {error[worst]:+.3f} m at '
           f'{(stamp_ns[worst] - walk.stamp_ns[0]) * 1e-9:.1f} s')
