@@ -189,3 +189,50 @@ def test_zaru_over_a_swaying_stand_learns_the_bias_and_keeps_the_heading(zaru):
         assert abs(learned_dps) < 0.2 and abs(heading_deg) < 0.5
     else:
         assert abs(learned_dps) > 0.8 and abs(heading_deg) > 2.0
+
+
+def glide(glide_s, rate_hz=200.0, accel_mps2=(5.0, 0.0, 5.0), push_s=0.3, brake=True):
+    """
+    Return a level, non-turning foot: 1 s still, pushed for ``push_s``, gliding ``glide_s``.
+
+    While it glides at constant velocity the IMU reads exactly gravity and no rotation: still,
+    to the SHOE detector. With ``brake`` it then slows to rest as it sped up (a swing in which
+    the foot looks still for an instant), else the sensor reads still from the glide on while
+    the strapdown keeps the push's velocity (an INS that has run away at a real stance).
+    """
+    g = np.array([0.0, 0.0, 9.80665])
+    phases = [(1.0, g), (push_s, g + accel_mps2), (glide_s, g)]
+    if brake:
+        phases += [(push_s, g - accel_mps2)]
+    phases += [(1.0, g)]
+    acc_b = np.vstack([np.tile(a, (int(round(s * rate_hz)), 1)) for s, a in phases])
+    stamp_ns = (np.arange(len(acc_b)) * 1e9 / rate_hz).astype(np.int64)
+    return stamp_ns, acc_b, np.zeros_like(acc_b)
+
+
+@pytest.mark.parametrize('max_nis', [0.0, 1000.0])
+def test_a_foot_gliding_mid_swing_is_not_a_stance(max_nis):
+    # 60 ms of glide at 2.1 m/s: without the young-stance rule (0) a ZUPT stops the strapdown
+    # there and cuts the swing in two; with it the swing is one stride of the true length.
+    from anfis_elevation_ros.core.zupt import ZuptParams
+    params = NavigatorParams(rate_hz=200.0, zupt=ZuptParams(young_stance_max_nis=max_nis))
+    navigator = FootNavigator(params)
+    track, cycles = navigator.run(*glide(0.06))
+    truth_m = 2 * 0.5 * 5.0 * 0.3 ** 2 + 1.5 * 0.06                        # 0.51 m
+    climbed_m = track[-1].pos_n[2] - track[0].pos_n[2]
+    if max_nis:
+        assert len(cycles) == 1 and navigator.status.waiting_zupts > 0
+        assert climbed_m == pytest.approx(truth_m, abs=0.01)
+    else:
+        assert len(cycles) == 2 and navigator.status.waiting_zupts == 0
+        assert abs(climbed_m - truth_m) > 0.1
+
+
+def test_a_real_stance_gets_its_zupt_once_it_is_no_longer_young():
+    # The strapdown keeps 1.5 m/s into a still stance: its ZUPTs wait while the stance is
+    # young (0.05 s, 10 samples at 200 Hz, the first 4 not yet a stance), then stop it.
+    navigator = FootNavigator(NavigatorParams(rate_hz=200.0))
+    track, _ = navigator.run(*glide(1.0, accel_mps2=(15.0, 0.0, 0.0), push_s=0.1, brake=False))
+    assert navigator.status.waiting_zupts == 10 - 4
+    speeds = np.linalg.norm(np.diff([p.pos_n for p in track[-50:]], axis=0), axis=1) * 200.0
+    assert np.max(speeds) < 0.01

@@ -37,6 +37,7 @@ from .jit import jit
 from .strapdown import strapdown_step
 from .stride_gate import RELAXED_SIGMA, stride_gate_update
 from .zupt import adaptive_threshold, intensity_update, shoe_update, window_is_still
+from .zupt import young_stance_waits
 
 # The arrays' layout:
 # the nominal state,
@@ -45,11 +46,11 @@ Q_NB, VEL_N, POS_N, ACC_BIAS_B, GYR_BIAS_B = (
 N_NOMINAL = 16
 # the navigator's integer state and counters,
 PREV_STAMP_NS, STILL_SAMPLES, MIN_STANCE_SAMPLES, RELEVEL, GAPS, MISSING_SAMPLES, \
-    STANCE_SAMPLES, ZARU_SAMPLES = range(8)
+    STANCE_SAMPLES, ZARU_SAMPLES, YOUNG_STANCE_SAMPLES, WAITING_ZUPTS = range(10)
 # and its real-valued state and settings (THRESHOLD_LAW: the arguments of adaptive_threshold).
 THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL, \
-    GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA = range(12)
-THRESHOLD_LAW = slice(12, 17)
+    GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA, YOUNG_MAX_NIS = range(13)
+THRESHOLD_LAW = slice(13, 18)
 
 
 @jit
@@ -107,13 +108,19 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
                           abs(sensor_gyr_b[2])) >= rail:
         ekf.clipped_gyro_noise(P, scalars[GYR_RAIL_NOISE], dt_s)
 
-    # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still), then the
-    # gait's structure (one stance between two swings).
+    # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still), a young
+    # stance's implausible ZUPT held back (not after a gap: the INS velocity is no evidence
+    # then), then the gait's structure (one stance between two swings).
     statistic = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b,
                             sensor_gyr_b)
     counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if statistic < scalars[THRESHOLD] else 0
-    gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD],
-                              counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES])
+    still = counts[STILL_SAMPLES] >= counts[MIN_STANCE_SAMPLES]
+    if still and counts[RELEVEL] == 0 and young_stance_waits(
+            counts[STILL_SAMPLES], counts[YOUNG_STANCE_SAMPLES], P, vel_n, scalars[ZUPT_SIGMA],
+            scalars[YOUNG_MAX_NIS]):
+        still = False
+        counts[WAITING_ZUPTS] += 1
+    gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD], still)
     stance = gate & 1 == 1
     if scalars[ADAPTIVE] != 0.0 and intensity_update(
             peaks, intensity_state, intensity_counts,

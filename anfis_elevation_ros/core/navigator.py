@@ -58,7 +58,8 @@ from .navigation_step import GYR_RAIL, GYR_RAIL_NOISE, LAST_NIS, MAX_DT_S, MAX_G
 from .navigation_step import MIN_STANCE_SAMPLES, MISSING_SAMPLES, N_NOMINAL, navigation_step
 from .navigation_step import POS_N, PREV_STAMP_NS, Q_NB, RATE_HZ, STANCE_SAMPLES, STILL_SAMPLES
 from .navigation_step import THRESHOLD, THRESHOLD_LAW, VEL_N, ZARU_MAX_GYR, ZARU_SAMPLES
-from .navigation_step import ZARU_SIGMA, ZUPT_SIGMA
+from .navigation_step import WAITING_ZUPTS, YOUNG_MAX_NIS, YOUNG_STANCE_SAMPLES, ZARU_SIGMA
+from .navigation_step import ZUPT_SIGMA
 from .stride_gate import initial_state, samples_to_relaxed_stance, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .validation import check_range
@@ -150,6 +151,7 @@ class NavigatorStatus:
     rail_filled_samples: int = 0   # clipped gyro samples rebuilt (core/gyro_rail.py)
     stance_samples: int = 0
     zaru_samples: int = 0
+    waiting_zupts: int = 0         # young stance samples whose implausible ZUPT waited
     gaps: int = 0
     missing_samples: int = 0
     cycles: int = 0
@@ -237,15 +239,16 @@ class FootNavigator:
         self._scalars = np.zeros(THRESHOLD_LAW.stop)
         self._scalars[THRESHOLD_LAW] = p.zupt.threshold_law()
         self._scalars[[GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL,
-                       GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA]] = (
+                       GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA, YOUNG_MAX_NIS]] = (
             p.gravity_mps2, rate_hz, p.max_gap_s, p.gait.max_swing_s, p.ekf.zupt_sigma_mps,
             float(p.zupt.adaptive), GYR_RAIL_FRACTION * p.gyro_range_rps,
             p.ekf.gyr_rail_noise_rps,
             p.heading.zaru_max_gyr_rps if p.heading.zaru_enabled else 0.0,
-            p.heading.zaru_sigma_rps)
+            p.heading.zaru_sigma_rps, p.zupt.young_stance_max_nis)
         self._scalars[THRESHOLD] = self._current_threshold()
-        self._counts = np.zeros(ZARU_SAMPLES + 1, dtype=np.int64)
+        self._counts = np.zeros(WAITING_ZUPTS + 1, dtype=np.int64)
         self._counts[MIN_STANCE_SAMPLES] = p.zupt.min_stance_samples(rate_hz)
+        self._counts[YOUNG_STANCE_SAMPLES] = p.zupt.young_stance_samples(rate_hz)
         init_samples = int(round(p.init_stance_s * rate_hz))
         self._rest = deque(maxlen=max(self._detector.window, RATE_ESTIMATE_SAMPLES, init_samples))
 
@@ -498,6 +501,7 @@ class FootNavigator:
             status.missing_samples = int(counts[MISSING_SAMPLES])
             status.stance_samples = int(counts[STANCE_SAMPLES])
             status.zaru_samples = int(counts[ZARU_SAMPLES])
+            status.waiting_zupts = int(counts[WAITING_ZUPTS])
             status.last_nis = float(self._scalars[LAST_NIS])
         if self._rail is not None:
             status.rail_filled_samples = self._rail.filled_samples

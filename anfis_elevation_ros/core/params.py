@@ -207,6 +207,10 @@ _DOCS = {
     'zupt.max_threshold': ('Upper bound of the adaptive threshold.', 1.0, 1e13, _READ_ONLY),
     'zupt.min_stance_s': ('A stance counts only after the statistic stayed below the threshold '
                           'this long, s.', 0.0, 0.5, _READ_ONLY),
+    'zupt.young_stance_s': ('A stance younger than this gets no ZUPT while its innovation is '
+                            'implausible (zupt.young_stance_max_nis), s.', 0.0, 0.5, _READ_ONLY),
+    'zupt.young_stance_max_nis': ("Largest normalised innovation squared of a young stance's "
+                                  'ZUPT (0: no limit).', 0.0, 1e12, _READ_ONLY),
     'zupt.intensity_block_s': ('Block over which the peak angular rate is taken, s.', 0.2, 10.0,
                                _READ_ONLY),
     'zupt.intensity_blocks': ('Blocks whose median peak rate is the gait intensity.', 1, 60,

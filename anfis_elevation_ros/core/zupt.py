@@ -40,6 +40,7 @@ import math
 
 import numpy as np
 
+from . import ekf
 from .frames import GRAVITY_MPS2
 from .jit import jit
 from .validation import check_range
@@ -67,6 +68,9 @@ class ZuptParams:
     min_stance_s : a stance counts only after T_k < gamma held this long (a foot that moves at
         constant velocity without turning looks still to an IMU for an instant; a real
         stance lasts 0.1 s or more).
+    young_stance_s, young_stance_max_nis : a stance younger than ``young_stance_s`` whose
+        ZUPT innovation is implausible (NIS above ``young_stance_max_nis``) gets no ZUPT yet
+        (``young_stance_waits``); 0 turns the rule off.
     intensity_block_s : block over which the peak angular rate is taken, s.
     intensity_blocks : blocks whose median peak is the intensity m.
 
@@ -89,6 +93,8 @@ class ZuptParams:
     min_threshold: float = 3.0e6
     max_threshold: float = 2.0e8
     min_stance_s: float = 0.02
+    young_stance_s: float = 0.05
+    young_stance_max_nis: float = 1000.0
     intensity_block_s: float = 0.4
     intensity_blocks: int = 5
 
@@ -102,6 +108,8 @@ class ZuptParams:
         check_range('min_threshold', self.min_threshold, 1.0, self.max_threshold)
         check_range('max_threshold', self.max_threshold, self.min_threshold, 1e13)
         check_range('min_stance_s', self.min_stance_s, 0.0, 0.5)
+        check_range('young_stance_s', self.young_stance_s, 0.0, 0.5)
+        check_range('young_stance_max_nis', self.young_stance_max_nis, 0.0, 1e12)
         check_range('intensity_block_s', self.intensity_block_s, 0.2, 10.0)
         check_range('intensity_blocks', self.intensity_blocks, 1, 60)
 
@@ -112,6 +120,12 @@ class ZuptParams:
     def min_stance_samples(self, rate_hz: float) -> int:
         """Consecutive still samples before a stance counts, at a sample rate (at least 1)."""
         return max(1, int(round(self.min_stance_s * rate_hz)))
+
+    def young_stance_samples(self, rate_hz: float) -> int:
+        """Still samples before a stance is no longer young, at a sample rate (0: rule off)."""
+        if self.young_stance_max_nis <= 0.0:
+            return 0
+        return int(round(self.young_stance_s * rate_hz))
 
     def threshold_law(self) -> tuple:
         """Return the arguments of ``adaptive_threshold`` after the intensity, in order."""
@@ -323,6 +337,45 @@ def shoe_update(samples: np.ndarray, sums: np.ndarray, count: np.ndarray, config
     norm_mean_acc = math.sqrt(sums[0] ** 2 + sums[1] ** 2 + sums[2] ** 2) / w
     acc_term = sums[3] - 2.0 * g * w * norm_mean_acc + w * g * g
     return (acc_term * config[1] + sums[4] * config[2]) / w
+
+
+@jit
+def young_stance_waits(still_samples: int, young_samples: int, P: np.ndarray,
+                       vel_n: np.ndarray, zupt_sigma_mps: float, max_nis: float) -> bool:
+    """
+    Return True when a young stance's ZUPT must wait: the innovation it would apply is implausible.
+
+    A stance of fewer than ``young_samples`` still samples waits when the normalised innovation
+    squared of its ZUPT (eq. 7, z = -v_n, H = [0 I 0 0 0], R = sigma^2 I),
+
+        NIS = v_n^T (H P H^T + R)^-1 v_n > NIS_max,
+
+    says the INS velocity is tens of sigma from zero. Either the foot is not still: in mid-swing
+    a foot that moves at constant velocity without turning looks still to an IMU for an
+    instant (the first stride up a flight after brisk walking, 1-2.3 m/s), and a ZUPT there
+    stops the INS at the swing's speed and cuts the stride in two; or the INS has run away (a
+    gyro at its rail) and the stance is real. The first ends within a few samples; the second
+    stays still and gets its ZUPTs once it is no longer young.
+
+    Parameters
+    ----------
+    still_samples : int
+        Consecutive samples below the threshold so far.
+    young_samples : int
+        ``ZuptParams.young_stance_samples`` (0: the rule is off).
+    P : (15, 15) array
+        Predicted covariance.
+    vel_n : (3,) array
+        The INS velocity, m/s.
+    zupt_sigma_mps : float
+        The ZUPT's measurement noise sigma, m/s.
+    max_nis : float
+        NIS_max.
+
+    """
+    if still_samples >= young_samples:
+        return False
+    return ekf.zupt_correction(P, vel_n, zupt_sigma_mps)[2] > max_nis
 
 
 @jit

@@ -146,6 +146,7 @@ def navigator_status(name: str, hardware_id: str, period: PeriodFigures, status,
         'stance_fraction': period.stance_samples / period.samples if period.samples else 0.0,
         'samples': status.samples, 'cycles': status.cycles,
         'invalid_cycles': status.invalid_cycles, 'gaps': status.gaps,
-        'zaru_samples': status.zaru_samples, 'rail_filled_samples': status.rail_filled_samples,
+        'zaru_samples': status.zaru_samples, 'waiting_zupts': status.waiting_zupts,
+        'rail_filled_samples': status.rail_filled_samples,
         'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m, **node_values}
     return diagnostic_status(f'{name}: foot navigator', level, message, hardware_id, values)
