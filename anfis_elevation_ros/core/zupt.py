@@ -93,8 +93,8 @@ class ZuptParams:
     min_threshold: float = 3.0e6
     max_threshold: float = 2.0e8
     min_stance_s: float = 0.02
-    young_stance_s: float = 0.05
-    young_stance_max_nis: float = 1000.0
+    young_stance_s: float = 0.075
+    young_stance_max_nis: float = 600.0
     intensity_block_s: float = 0.4
     intensity_blocks: int = 5
 
