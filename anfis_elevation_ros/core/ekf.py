@@ -227,6 +227,16 @@ def zupt_correction(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float):
 
 
 @jit
+def zupt_nis(P: np.ndarray, vel_n: np.ndarray, zupt_sigma_mps: float) -> float:
+    """
+    Normalised innovation squared of the zero-velocity update, eq. (7), without the update.
+
+    NIS = v_n^T S^-1 v_n, S = H P H^T + R as in ``zupt_correction`` (``block_nis``).
+    """
+    return block_nis(P, -vel_n, VEL.start, zupt_sigma_mps ** 2)
+
+
+@jit
 def zaru_correction(P: np.ndarray, gyr_b: np.ndarray, gyr_bias_b: np.ndarray,
                     zaru_sigma_rps: float):
     """
@@ -276,12 +286,34 @@ def block_correction(P: np.ndarray, innovation: np.ndarray, start: int, variance
 
     """
     block = slice(start, start + 3)
-    S_inv = _inverse_3x3(P[block, block] + variance * _I3)
+    S_inv = _block_innovation_inverse(P, start, variance)
     K = mat_mul(P[:, block], S_inv)
     A = P - mat_mul(K, P[block, :])
     P = A - mat_mul(A[:, block] - variance * K, K.T)
-    return (mat_vec(K, innovation), 0.5 * (P + P.T),
-            np.sum(innovation * mat_vec(S_inv, innovation)))
+    return mat_vec(K, innovation), 0.5 * (P + P.T), _nis(S_inv, innovation)
+
+
+@jit
+def block_nis(P: np.ndarray, innovation: np.ndarray, start: int, variance: float) -> float:
+    """
+    Normalised innovation squared y^T S^-1 y of ``block_correction``'s measurement, no update.
+
+    S = H P H^T + R = P[B, B] + r I3: a 3 x 3 solve, where the update costs two rank-3
+    updates of the 15 x 15 covariance (a gate that may refuse the measurement needs only this).
+    """
+    return _nis(_block_innovation_inverse(P, start, variance), innovation)
+
+
+@jit
+def _block_innovation_inverse(P: np.ndarray, start: int, variance: float) -> np.ndarray:
+    """Return S^-1 = (P[B, B] + r I3)^-1, B the 3-state block at ``start``."""
+    return _inverse_3x3(P[start:start + 3, start:start + 3] + variance * _I3)
+
+
+@jit
+def _nis(S_inv: np.ndarray, innovation: np.ndarray) -> float:
+    """Return y^T S^-1 y."""
+    return np.sum(innovation * mat_vec(S_inv, innovation))
 
 
 def position_correction(P: np.ndarray, innovation_xy: np.ndarray, sigma_m: float):

@@ -375,7 +375,7 @@ def young_stance_waits(still_samples: int, young_samples: int, P: np.ndarray,
     """
     if still_samples >= young_samples:
         return False
-    return ekf.zupt_correction(P, vel_n, zupt_sigma_mps)[2] > max_nis
+    return ekf.zupt_nis(P, vel_n, zupt_sigma_mps) > max_nis
 
 
 @jit
