@@ -14,6 +14,8 @@
 
 """Online riser height: synthetic flights with unknown risers per stride, a wrong prior, noise."""
 
+from functools import partial
+
 from anfis_elevation_ros.core.riser_height import allowed_riser_counts, height_checked_mode
 from anfis_elevation_ros.core.riser_height import K_GRID_M, level_slope, LevelSlope, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
@@ -23,6 +25,11 @@ import numpy as np
 import pytest
 
 TREAD_M = 0.28
+
+
+def counted(risers):
+    """Return the count of a flight counted once: the same risers at any K."""
+    return lambda k_m: risers
 
 
 def flight(k_m, counts, rng, noise_m=0.004, direction=1):
@@ -174,7 +181,7 @@ def test_flights_of_one_riser_height_share_a_stairwell_another_gets_its_own():
         for dh, length in zip(*flight(k_m, [2] * 6, rng)):
             wells.add(dh, length)
         assert wells.estimate_m == pytest.approx(k_m, abs=0.002)
-        wells.end_flight(12)
+        wells.end_flight(counted(12))
         assert wells.stairwells == expected_wells
     # N_w risers per stairwell with the latest K_w: 3 x 12 risers of ~0.15, 12 of ~0.19.
     assert wells.climbed_m == pytest.approx(36 * 0.15 + 12 * 0.19, abs=0.06)
@@ -199,15 +206,15 @@ def test_a_flight_back_down_the_same_stairs_joins_them_whatever_its_strides_say(
     wells.start_flight((0.0, 0.0), 1)
     for i in range(7):
         wells.add(0.348, 0.56, (0.56 * (i + 1), 0.0))
-    wells.end_flight(14)
+    wells.end_flight(counted(14))
     wells.start_flight((4.0, 0.5), -1)               # turned round at the top
     for i in range(7):
         wells.add(-0.306, 0.56, (4.0 - 0.56 * (i + 1), 0.5))
-    wells.end_flight(-14)
+    wells.end_flight(counted(-14))
     assert wells.stairwells == 1 and wells.climbed_m == 0.0
     wells.start_flight((30.0, 0.0), -1)              # far away, same strides: evidence decides
     wells.add(-0.306, 0.56, (30.5, 0.0))
-    wells.end_flight(-2)
+    wells.end_flight(counted(-2))
     assert wells.stairwells == 2
 
 
@@ -217,13 +224,38 @@ def test_the_flight_under_the_end_of_another_storeys_stairs_is_not_them():
     wells.start_flight((0.0, 0.0), -1, 3.33)
     for i in range(9):
         wells.add(-0.37, 0.56, (0.56 * (i + 1), 0.0))
-    wells.end_flight(-18, 0.0)
+    wells.end_flight(counted(-18), 0.0)
     wells.start_flight((4.5, 0.5), 1, -3.04)         # where it ended, but a storey lower
     for i in range(10):
         wells.add(0.304, 0.56, (4.5 - 0.56 * (i + 1), 0.5))
     assert wells.estimate_m == pytest.approx(0.152, abs=0.002)
-    wells.end_flight(20, 0.0)
+    wells.end_flight(counted(20), 0.0)
     assert wells.stairwells == 2
     wells.start_flight((5.0, 0.3), 1, 0.0)           # the same stairs back up: joins them
     wells.add(0.30, 0.56, (4.5, 0.3))                 # (a stride of 0.15 m risers: still)
     assert wells.estimate_m == pytest.approx(0.185, abs=0.002)
+
+
+def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
+    """Random walk 159: up 4 risers of 0.152 m a stride, read as 3 of 0.203, then back down."""
+    wells = StairwellRiserHeights(0.17)
+    wells.start_flight((0.0, 0.0), 1, 0.0)
+    up = [0.608, 0.610, 0.607]
+    for i, dh in enumerate(up):
+        wells.add(dh, 1.12, (1.12 * (i + 1), 0.0))
+    assert wells.estimate_m == pytest.approx(0.203, abs=0.002)
+    bounds = [riser_count_bounds(1.12)] * 3
+    low, high = zip(*bounds)
+    wells.end_flight(partial(flight_riser_count, 1, up, [1, 1, 1], low=low, high=high), 1.82)
+    assert wells.climbed_m == pytest.approx(9 * 0.203, abs=0.02)
+    # Back down the same stairs one riser a stride: K moves to 0.152 m, and the flight up is
+    # 12 risers of it, so the walk ends where it started.
+    wells.start_flight((3.4, 0.3), -1, 1.82)
+    down = np.full(12, 0.152)
+    for i, dh in enumerate(down):
+        wells.add(-dh, 0.28, (3.4 - 0.28 * (i + 1), 0.3))
+    assert wells.estimate_m == pytest.approx(0.152, abs=0.001)
+    low, high = zip(*[riser_count_bounds(0.28)] * 12)
+    wells.end_flight(partial(flight_riser_count, -1, down, [1] * 12, low=low, high=high), 0.0)
+    assert wells.stairwells == 1
+    assert wells.climbed_m == pytest.approx(0.0, abs=1e-9)

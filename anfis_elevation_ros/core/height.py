@@ -59,6 +59,7 @@ References
 """
 
 from dataclasses import dataclass
+from functools import partial
 import math
 import numbers
 from typing import Optional
@@ -343,7 +344,11 @@ class ElevationTracker:
         if not self._flight_abs_dh_m:
             return 0
         return flight_riser_count(self._flight_mode, self._flight_abs_dh_m, self._flight_cycles,
-                                  self.step_height_m, *zip(*self._flight_bounds))
+                                  self.step_height_m, **self._flight_bound_arrays())
+
+    def _flight_bound_arrays(self) -> dict:
+        low, high = zip(*self._flight_bounds) if self._flight_bounds else (None, None)
+        return {'low': low, 'high': high}
 
     @property
     def step_height_m(self) -> float:
@@ -513,8 +518,10 @@ class ElevationTracker:
         return bridged
 
     def _end_flight(self, mode: int):
-        """Fix the current flight's riser count in its stairwell; start a flight of ``mode``."""
-        self.risers.end_flight(self._flight_risers(), self.height_m)
+        """Hand the current flight's strides to its stairwell; start a flight of ``mode``."""
+        self.risers.end_flight(partial(flight_riser_count, self._flight_mode,
+                                       tuple(self._flight_abs_dh_m), tuple(self._flight_cycles),
+                                       **self._flight_bound_arrays()), self.height_m)
         self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self._flight_mode = mode
 

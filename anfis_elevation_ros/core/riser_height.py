@@ -48,7 +48,7 @@ References
 
 import math
 import numbers
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -368,8 +368,10 @@ class StairwellRiserHeights:
     storey's stairs under them), is in that stairwell whatever its strides say: over a few
     metres the track does not drift, and strides up and down the same stairs can differ by
     10 % (an IMU's cross-axis errors). Each
-    stairwell keeps the net risers N_w of its finished flights, so that the height they add is
-    K_w N_w with the latest K_w.
+    stairwell keeps how to count the risers of each of its finished flights, so that the
+    height they add is K_w N_w(K_w) with the latest K_w: a later flight that moves K_w
+    (strides of one riser settling what strides of four, read as three, left open) counts
+    the earlier flights again, stride by stride, at the new K_w.
 
     Parameters
     ----------
@@ -381,9 +383,10 @@ class StairwellRiserHeights:
     def __init__(self, prior_m: float, known_m: Optional[float] = None,
                  prior_sigma_m: float = PRIOR_SIGMA_M):
         self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
-        # [estimator, net risers of its finished flights, (x, y) where its last flight ended,
+        # [estimator, riser counters of its finished flights, (x, y) where its last flight ended,
         #  that flight's direction, the height it ended at]
         self._wells = []
+        self._risers_at = {}        # (stairwell, K) -> N_w(K): K moves only during a flight
         self._flight_log_likelihood = None
         self._flight_strides = 0
         self._flight_start_xy = self._flight_end_xy = None
@@ -430,19 +433,25 @@ class StairwellRiserHeights:
             self._index = 0 if self._wells else None
         return self.estimate_m
 
-    def end_flight(self, risers: int, end_height_m: Optional[float] = None):
-        """Close the open flight (ending at a height, m): its strides and risers join its well."""
+    def end_flight(self, risers: Callable[[float], int], end_height_m: Optional[float] = None):
+        """
+        Close the open flight (ending at a height, m): its strides and risers join its well.
+
+        ``risers(K)`` is the flight's signed riser count at riser height K: when a later
+        flight moves its stairwell's K, the flight is counted again with it.
+        """
         if self._flight_log_likelihood is None or not self._flight_strides:
             self._flight_log_likelihood = None
             return
         if self._index is None:
             first = self._template
             self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
-                                                     first.prior_sigma_m), 0, None, 0, None])
+                                                     first.prior_sigma_m), [], None, 0, None])
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well[0].commit(self._flight_log_likelihood, self._flight_strides)
-        well[1] += int(risers)
+        well[1].append(risers)
+        self._risers_at.clear()
         well[2] = self._flight_end_xy
         well[3] = self._flight_direction
         well[4] = end_height_m
@@ -471,24 +480,29 @@ class StairwellRiserHeights:
 
     @property
     def climbed_m(self) -> float:
-        """Return the height of the finished flights, sum_w K_w N_w, m."""
+        """Return the height of the finished flights, sum_w K_w N_w(K_w), m."""
         total = 0.0
-        for k, (estimator, risers, *_) in enumerate(self._wells):
+        for k, (estimator, flights, *_) in enumerate(self._wells):
             more = self._open_flight() if k == self._index else None
-            total += estimator.estimate_with(more) * risers
+            k_m = estimator.estimate_with(more)
+            if (k, k_m) not in self._risers_at:
+                self._risers_at[k, k_m] = sum(risers(k_m) for risers in flights)
+            total += k_m * self._risers_at[k, k_m]
         return total
 
     def forget_climbs(self):
-        """Zero every N_w (the caller keeps their height in its base: a new prior, a resume)."""
+        """Forget the finished flights (the caller keeps their height in its base: a new prior)."""
         for well in self._wells:
-            well[1] = 0
+            well[1] = []
+        self._risers_at.clear()
 
     def resume(self, estimate_m: float, strides: int):
         """Carry on from a saved estimate (a restart): one stairwell that has it."""
         estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
                                          self._template.prior_sigma_m)
         estimator.resume(estimate_m, strides)
-        self._wells = [[estimator, 0, None, 0, None]]
+        self._wells = [[estimator, [], None, 0, None]]
+        self._risers_at.clear()
         self._index = 0
 
     def set_prior(self, prior_m: float, sigma_m: float):
