@@ -53,7 +53,8 @@ class GyroRailParams:
 
     Attributes
     ----------
-    enabled : rebuild the clipped samples (off by default: see Notes).
+    enabled : rebuild the clipped samples (on by default, acting only where
+        ``gyro_range_rps`` is declared: see Notes).
     fit_samples : samples each side of a run that the polynomial is fitted to.
     fit_order : degree of the polynomial (less than 2 x ``fit_samples``).
     max_run_s : a run held longer than this is released as it came, s.
@@ -67,13 +68,15 @@ class GyroRailParams:
     0.05-0.2 s, range_fraction 0.97-0.99): walk 35 ends 1.9 % of the path off instead of
     12.7 % (plain filter), 1.6 % instead of 14.3 % with both heading aids; max_run_s holds
     from 0.07 to 0.11 s (longer: the running strides' 0.13-0.18 s plateaus are extrapolated
-    too far). Off by default: walk 43, held out, ends worse (both aids 1.0 -> 1.5 %; with the
-    stride gate its mean stride error 0.83 -> 0.96 m), and 38 a little (1.0 -> 1.1 %),
-    although the pyshoe VICON trials gain (``README.md``, gdin_hallway).
+    too far). Held out: the pyshoe VICON trials gain (median 0.066 -> 0.063 m with both aids),
+    gdin walk 43 ends worse (both aids 1.0 -> 1.5 %; with the stride gate its mean stride
+    error 0.83 -> 0.96 m) and 38 a little (1.0 -> 1.1 %). On by default since 2026-12-05:
+    without it a gyro that clips in the wearer's gait leaves the worst walk 15 % of its path
+    off, worse with the heading aids than without (``README.md``, gdin_hallway).
 
     """
 
-    enabled: bool = False
+    enabled: bool = True
     fit_samples: int = 2
     fit_order: int = 2
     max_run_s: float = 0.1

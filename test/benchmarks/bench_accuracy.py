@@ -19,9 +19,9 @@ Run from the repository root: ``python test/benchmarks/bench_accuracy.py``. Prin
 VICON position error (36 trials, one parameter set), the final heights on the real stair
 recordings, and IMU samples/s through the full replay pipeline (input gate, mechanisation,
 detector, EKF, features, ANFIS) on one core. ``--gyro-range-rps R`` declares the gyro's range
-(``gyro_range_rps``, unknown by default) and ``--rail-fill`` rebuilds the clipped samples
-(``rail.enabled``, ``core/gyro_rail.py``), both on the pyshoe VICON trials (their sensor's
-range; not on the other recordings).
+(``gyro_range_rps``, unknown by default), whose clipped samples are then rebuilt
+(``rail.enabled``, ``core/gyro_rail.py``; ``--no-rail-fill`` turns it off), both on the
+pyshoe VICON trials (their sensor's range; not on the other recordings).
 """
 
 import argparse
@@ -61,11 +61,11 @@ def main():
                         help='stride_gate.enabled (core/stride_gate.py)')
     parser.add_argument('--gyro-range-rps', type=float, default=0.0,
                         help='gyro_range_rps (the pyshoe VICON sensor clips near 9.25)')
-    parser.add_argument('--rail-fill', action='store_true', help='rail.enabled')
+    parser.add_argument('--no-rail-fill', action='store_true', help='rail.enabled false')
     args = parser.parse_args()
     params = NavigatorParams(stride_gate=StrideGateParams(enabled=args.stride_gate))
     errors = pyshoe_errors(replace(params, gyro_range_rps=args.gyro_range_rps,
-                                   rail=GyroRailParams(enabled=args.rail_fill)))
+                                   rail=GyroRailParams(enabled=not args.no_rail_fill)))
     print(f'pyshoe VICON, {len(errors)} trials: median {np.median(errors):.3f} m, mean '
           f'{errors.mean():.3f} m, max {errors.max():.3f} m, {np.sum(errors > 0.2)} above 0.2 m')
     for path in dataset_files('mad_stairs'):

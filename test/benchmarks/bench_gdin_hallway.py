@@ -20,8 +20,8 @@ cycles against ``numberOfStrides``, the final-position error as % of the path (t
 through the stride positions), and the mean error of the stride-end positions (only when every
 stride was detected, so that cycle i is stride i), for the plain filter and with each heading
 aid (``heading.zaru_enabled``, ``heading.hde_enabled``, both) side by side, with the gyro's
-range declared (``gyro_range_rps``: clipped samples add attitude noise; with ``--rail-fill``
-they are rebuilt first, ``rail.enabled``, ``core/gyro_rail.py``). The track's
+range declared (``gyro_range_rps``: clipped samples are rebuilt first, ``rail.enabled``,
+``core/gyro_rail.py``; with ``--no-rail-fill`` they add attitude noise only). The track's
 heading is aligned to the truth on the first ``ALIGN_CYCLES`` cycle ends (least-squares
 rotation about the start): the IMU's initial heading is unknown, as in any foot-mounted INS
 benchmark. Each cycle end is paired with the truth polyline's point at the same distance walked,
@@ -83,7 +83,8 @@ def walk_figures(walk, params):
 def main():
     # --stride-gate: with stride_gate.enabled (core/stride_gate.py).
     gate = StrideGateParams(enabled='--stride-gate' in sys.argv)
-    rail = GyroRailParams(enabled='--rail-fill' in sys.argv)
+    # --no-rail-fill: rail.enabled false (clipped samples add attitude noise only).
+    rail = GyroRailParams(enabled='--no-rail-fill' not in sys.argv)
     finals = {name: [] for name in AIDS}
     print('walk cycles/strides path_m | final % of path, mean stride error m: '
           + ' | '.join(AIDS))

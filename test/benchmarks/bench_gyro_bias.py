@@ -23,8 +23,9 @@ rates all stay below ``STILL_RPS``), and, with the zero angular rate update over
 off and on (``heading.zaru_enabled``), the bias learned at the end and the error of the trial
 (``pyshoe_position_error``); then the errors per session. One sensor, two sessions
 (2017-11-22, 2017-11-27): its true bias cannot move by degrees per second between trials an
-hour apart. ``--gyro-range-rps R`` declares the gyro's range (``gyro_range_rps``) and
-``--rail-fill`` rebuilds the clipped samples (``rail.enabled``, ``core/gyro_rail.py``); with
+hour apart. ``--gyro-range-rps R`` declares the gyro's range (``gyro_range_rps``), whose
+clipped samples are then rebuilt (``rail.enabled``, ``core/gyro_rail.py``;
+``--no-rail-fill`` turns it off); with
 a range, each row also gives the largest jump of the learned z bias at the rail (deg/s: its
 change from ``JUMP_BEFORE_S`` before a sample within 1 % of the range to ``JUMP_AFTER_S``
 after it).
@@ -94,10 +95,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--gyro-range-rps', type=float, default=0.0,
                         help='gyro_range_rps (the sensor clips near 9.25)')
-    parser.add_argument('--rail-fill', action='store_true', help='rail.enabled')
+    parser.add_argument('--no-rail-fill', action='store_true', help='rail.enabled false')
     args = parser.parse_args()
     common = {'gyro_range_rps': args.gyro_range_rps,
-              'rail': GyroRailParams(enabled=args.rail_fill)}
+              'rail': GyroRailParams(enabled=not args.no_rail_fill)}
     variants = {'ZARU off': NavigatorParams(heading=HeadingAidParams(zaru_enabled=False),
                                             **common),
                 'ZARU on': NavigatorParams(heading=HeadingAidParams(zaru_enabled=True),

@@ -16,9 +16,9 @@
 Where ZARU changes a gdin_hallway walk: its stands, the learned gyro bias and the heading.
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_zaru_walk.py
-[--walk 35] [--rail-noise 0.5] [--rail-fill]``. The walk goes through the navigator twice
+[--walk 35] [--rail-noise 0.5] [--no-rail-fill]``. The walk goes through the navigator twice
 (heading aids off, then ZARU alone; gyro range declared, as in ``bench_gdin_hallway.py``;
-``--rail-fill``: clipped samples rebuilt, ``rail.enabled``), and prints: the
+clipped samples rebuilt, ``rail.enabled``, unless ``--no-rail-fill``), and prints: the
 samples at the gyro's rail per axis and sign; every run of samples where ZARU fired (time,
 samples, mean rate, z bias before and after); at each gait-cycle end, the cycle's length, the
 learned gyro bias of both runs and their yaw difference; the final error as % of the path.
@@ -73,7 +73,7 @@ def main():
     parser.add_argument('--walk', default='35', help='walk number (default 35)')
     parser.add_argument('--rail-noise', type=float, default=EkfParams().gyr_rail_noise_rps,
                         help='ekf.gyr_rail_noise_rps, rad/s')
-    parser.add_argument('--rail-fill', action='store_true', help='rail.enabled')
+    parser.add_argument('--no-rail-fill', action='store_true', help='rail.enabled false')
     args = parser.parse_args()
     walk = load_gdin_walk(
         shared_data_dir() / 'gdin_hallway' / f'SensorConnectData_{args.walk}.csv')
@@ -82,8 +82,8 @@ def main():
     rail = GYR_RAIL_FRACTION * GYRO_RANGE_RPS
     print('samples at the rail (+, -) per axis x, y, z:',
           [(int(np.sum(g >= rail)), int(np.sum(g <= -rail))) for g in rec.gyr_b.T])
-    plain = trace(walk, False, args.rail_noise, args.rail_fill)
-    zaru = trace(walk, True, args.rail_noise, args.rail_fill)
+    plain = trace(walk, False, args.rail_noise, not args.no_rail_fill)
+    zaru = trace(walk, True, args.rail_noise, not args.no_rail_fill)
     count, bias = zaru[0], np.degrees(zaru[1])
     print('ZARU runs: t0-t1 s, samples, mean rate x y z deg/s, z bias before -> after deg/s')
     for first, stop in runs(np.diff(count, prepend=0) > 0):
