@@ -491,7 +491,7 @@ class StairwellRiserHeights:
         return total
 
     def forget_climbs(self):
-        """Forget the finished flights (the caller keeps their height in its base: a new prior)."""
+        """Forget the finished flights (their height is in the caller's base: a new K, a floor)."""
         for well in self._wells:
             well[1] = []
         self._risers_at.clear()
