@@ -341,14 +341,13 @@ class ElevationTracker:
             self._flight_risers()
 
     def _flight_risers(self) -> int:
-        if not self._flight_abs_dh_m:
-            return 0
-        return flight_riser_count(self._flight_mode, self._flight_abs_dh_m, self._flight_cycles,
-                                  self.step_height_m, **self._flight_bound_arrays())
+        return self._flight_counter()(self.step_height_m) if self._flight_abs_dh_m else 0
 
-    def _flight_bound_arrays(self) -> dict:
+    def _flight_counter(self):
+        """Return the open flight's riser count as a function of K (:func:`flight_riser_count`)."""
         low, high = zip(*self._flight_bounds) if self._flight_bounds else (None, None)
-        return {'low': low, 'high': high}
+        return partial(flight_riser_count, self._flight_mode, tuple(self._flight_abs_dh_m),
+                       tuple(self._flight_cycles), low=low, high=high)
 
     @property
     def step_height_m(self) -> float:
@@ -519,9 +518,7 @@ class ElevationTracker:
 
     def _end_flight(self, mode: int):
         """Hand the current flight's strides to its stairwell; start a flight of ``mode``."""
-        self.risers.end_flight(partial(flight_riser_count, self._flight_mode,
-                                       tuple(self._flight_abs_dh_m), tuple(self._flight_cycles),
-                                       **self._flight_bound_arrays()), self.height_m)
+        self.risers.end_flight(self._flight_counter(), self.height_m)
         self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self._flight_mode = mode
 
