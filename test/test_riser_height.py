@@ -20,6 +20,7 @@ from anfis_elevation_ros.core.riser_height import allowed_riser_counts, height_c
 from anfis_elevation_ros.core.riser_height import K_GRID_M, level_slope, LevelSlope, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
 from anfis_elevation_ros.core.riser_height import StairwellRiserHeights, stride_log_likelihood
+from anfis_elevation_ros.core.riser_height import stride_noise_sigma, STRIDE_SIGMA_M
 from anfis_elevation_ros.core.stair_steps import flight_riser_count
 import numpy as np
 import pytest
@@ -171,6 +172,38 @@ def test_level_slope_is_the_median_height_per_metre():
     for dh in [-0.042] * 14 + [0.0] * 9:
         slope.add_level(dh, 1.4)
     assert slope.slope == 0.0
+
+
+def test_the_stride_noise_is_what_the_slope_leaves_of_level_strides():
+    assert stride_noise_sigma([0.01] * 7) == STRIDE_SIGMA_M     # too few to say
+    # 1.4826 median |r| is the sigma of Gaussian residuals; f = 2 of it.
+    residuals = np.random.default_rng(3).normal(0.0, 0.004, 2000)
+    assert stride_noise_sigma(residuals) == pytest.approx(2 * 0.004, rel=0.05)
+    assert stride_noise_sigma([0.0] * 8) == 0.001                # never below the grid step
+    assert stride_noise_sigma([0.05] * 8) == STRIDE_SIGMA_M      # nor above the default
+    slope = LevelSlope()
+    assert slope.stride_sigma_m == STRIDE_SIGMA_M
+    rng = np.random.default_rng(5)
+    for dh in 0.02 * 1.4 + rng.normal(0.0, 0.003, 40):          # slope 0.02 m/m, 3 mm noise
+        slope.add_level(dh, 1.4)
+    assert slope.stride_sigma_m == pytest.approx(2 * 0.003, rel=0.3)
+    for dh in 0.02 * 1.4 + rng.normal(0.0, 0.0045, 40):         # a noisier sensor: the last 32
+        slope.add_level(dh, 1.4)
+    assert slope.stride_sigma_m == pytest.approx(2 * 0.0045, rel=0.3)
+
+
+@pytest.mark.parametrize('sigma_m, expected_wells', [(0.004, 2), (0.01, 1)])
+def test_how_far_apart_two_stairs_must_be_follows_the_stride_noise(sigma_m, expected_wells):
+    # Two storeys' stairs 6 mm apart (random walk 116): a sensor whose strides scatter by
+    # 2 mm tells them apart, one at the default sigma (10 mm) cannot.
+    wells = StairwellRiserHeights(0.17)
+    rng = np.random.default_rng(11)
+    for k_m in (0.149, 0.155):
+        wells.start_flight()
+        for dh, length in zip(*flight(k_m, [1] * 16, rng, noise_m=0.001)):
+            wells.add(dh, length, sigma_m=sigma_m)
+        wells.end_flight(counted(16))
+    assert wells.stairwells == expected_wells
 
 
 def test_flights_of_one_riser_height_share_a_stairwell_another_gets_its_own():

@@ -483,7 +483,7 @@ class ElevationTracker:
             riser_count_bounds(None)        # K known: eq. 14 as the patent has it
         if bounds[1] <= MAX_RISERS:         # a length that fits stairs: correct the slope
             dh_m = self.slope.corrected(dh_m, length_m)
-        self.risers.add(dh_m, length_m, end_xy)
+        self.risers.add(dh_m, length_m, end_xy, self.slope.stride_sigma_m)
         self._flight_abs_dh_m.append(abs(dh_m))
         self._flight_cycles.append(1)
         self._flight_bounds.append(bounds)

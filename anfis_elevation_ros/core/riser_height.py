@@ -37,7 +37,7 @@ Before a stride reaches the estimate its slope error is removed (:class:`LevelSl
 Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`riser_count_bounds`,
 :func:`height_checked_mode`, :func:`stride_log_likelihood`, :class:`RiserHeightEstimator`,
 :class:`StairwellRiserHeights`,
-:func:`stairwell_evidence`, :class:`LevelSlope`, :func:`level_slope`,
+:func:`stairwell_evidence`, :class:`LevelSlope`, :func:`level_slope`, :func:`stride_noise_sigma`,
 :func:`known_riser_height_m`, :data:`K_GRID_M`.
 
 References
@@ -71,7 +71,22 @@ OUTLIER_PROB = 0.05
 """Probability that a stair stride fits no riser count (misclassified, INS glitch)."""
 
 STRIDE_SIGMA_M = 0.01
-"""Noise sigma of one stride's raw height change, m (simulator: 1-5 mm rms, tails 2 cm)."""
+"""
+Noise sigma of one stride's raw height change, m: before the level strides measure it, and
+the widest they set (:func:`stride_noise_sigma`).
+"""
+
+NOISE_STRIDES = 32
+"""Level strides behind the stride noise estimate (:func:`stride_noise_sigma`)."""
+
+MIN_NOISE_STRIDES = 8
+"""Fewer level strides than this say too little: :data:`STRIDE_SIGMA_M` is used."""
+
+NOISE_SIGMA_FACTOR = 2.0
+"""sigma = this x the level strides' scatter: flights of one stair read a few % apart too."""
+
+MIN_STRIDE_SIGMA_M = 0.001
+"""Narrowest stride noise, m: the grid step (:data:`K_GRID_M`)."""
 
 PRIOR_SIGMA_M = 0.02
 """Sigma of the prior around ``elevation.step_height_m``, m: weak, a few strides override it."""
@@ -409,14 +424,18 @@ class StairwellRiserHeights:
         self._index = None
 
     def add(self, dh_m: float, length_m: Optional[float] = None,
-            end_xy: Optional[tuple] = None) -> float:
-        """Add a stride (ending at (x, y), m) to the open flight; return the estimate, m."""
+            end_xy: Optional[tuple] = None, sigma_m: float = STRIDE_SIGMA_M) -> float:
+        """
+        Add a stride (ending at (x, y), m) to the open flight; return the estimate, m.
+
+        ``sigma_m`` is the stride's height noise (:func:`stride_noise_sigma`).
+        """
         if not math.isfinite(dh_m):
             raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
         if self._flight_log_likelihood is None:
             self.start_flight()
-        self._flight_log_likelihood += stride_log_likelihood(dh_m, K_GRID_M,
-                                                             allowed_riser_counts(length_m))
+        self._flight_log_likelihood += stride_log_likelihood(
+            dh_m, K_GRID_M, allowed_riser_counts(length_m), sigma_m)
         self._flight_strides += 1
         self._flight_end_xy = end_xy
         same_stairs = self._stairwell_ending_near(self._flight_start_xy)
@@ -546,21 +565,32 @@ class LevelSlope:
     strides up look taller than strides down by 2 c L. On level strides the true height change
     is 0, so (:func:`level_slope`) c = median_i dh_i / L_i over the last :data:`SLOPE_STRIDES`
     level strides of at least :data:`SLOPE_MIN_LENGTH_M`; a stair stride is then corrected
-    to dh - c L before K is estimated and its risers counted.
+    to dh - c L before K is estimated and its risers counted. What the slope leaves of a level
+    stride, dh - c L, is the INS's stride height noise on this sensor and gait
+    (:func:`stride_noise_sigma`, :attr:`stride_sigma_m`).
     """
 
     def __init__(self):
         self._ratios = []
+        self._residuals = []
 
     def add_level(self, dh_m: float, length_m: Optional[float]):
         """Take a level stride's raw height change and horizontal length, m."""
         if length_m is not None and length_m >= SLOPE_MIN_LENGTH_M and math.isfinite(dh_m):
+            if self._ratios:        # the slope before this stride: the residual is out of sample
+                self._residuals = (self._residuals + [self.corrected(dh_m, length_m)])[
+                    -NOISE_STRIDES:]
             self._ratios = (self._ratios + [dh_m / length_m])[-SLOPE_STRIDES:]
 
     @property
     def slope(self) -> float:
         """Return c, m of height per m of stride (0 before any level stride)."""
         return level_slope(self._ratios)
+
+    @property
+    def stride_sigma_m(self) -> float:
+        """Return the stride height noise sigma, m (:func:`stride_noise_sigma`)."""
+        return stride_noise_sigma(self._residuals)
 
     def corrected(self, dh_m: float, length_m: Optional[float]) -> float:
         """Return a stair stride's height change without the slope error, dh - c L, m."""
@@ -574,6 +604,28 @@ def level_slope(ratios) -> float:
     c = median_i (dh_i / L_i)      (0 with no stride)
     """
     return float(np.median(ratios)) if len(ratios) else 0.0
+
+
+def stride_noise_sigma(residuals) -> float:
+    """
+    Noise sigma of a stride's raw height change, from level strides (true change 0).
+
+    sigma = min(sigma_0, max(sigma_min, f 1.4826 median_i |dh_i - c L_i|))
+
+    over the last :data:`NOISE_STRIDES` level strides, c the slope before stride i
+    (:class:`LevelSlope`); 1.4826 median |r| is the standard deviation of Gaussian r, robust
+    to a stair stride called level. f = :data:`NOISE_SIGMA_FACTOR`; sigma_min =
+    :data:`MIN_STRIDE_SIGMA_M`; sigma_0 = :data:`STRIDE_SIGMA_M`, also the answer with fewer
+    than :data:`MIN_NOISE_STRIDES` residuals. The level strides can show that a sensor is
+    better than sigma_0 assumes (a simulated tactical IMU scatters by 2 mm: then stairs whose
+    risers are 5 mm apart are told apart), not that it is worse: a wider sigma let flights
+    of different riser heights share one K in the simulator, and the real feet that scatter
+    by 20-70 mm have no height truth to say what a wider sigma would do (README).
+    """
+    if len(residuals) < MIN_NOISE_STRIDES:
+        return STRIDE_SIGMA_M
+    scatter_m = 1.4826 * float(np.median(np.abs(residuals)))
+    return min(STRIDE_SIGMA_M, max(MIN_STRIDE_SIGMA_M, NOISE_SIGMA_FACTOR * scatter_m))
 
 
 def known_riser_height_m(building) -> Optional[float]:
