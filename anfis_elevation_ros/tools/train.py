@@ -44,12 +44,13 @@ truth and per-cycle labels say what each cycle is, so the rule does not apply to
 
 Then: cross-validation (``--cv subject``: one fold per real subject -- HuGaDB subject or bag --
 with the simulated runs spread over the folds; ``--cv recording``: one fold per recording), the
-threshold sigma_th of eq. 13 that maximises the pooled out-of-fold accuracy on a grid, and the
-final model trained on everything, saved as JSON with ``metadata`` holding ``mode_threshold``
-(sigma_th), the command, the data counts and the CV results. The pooled accuracy at that
-sigma_th has seen the test folds once (sigma_th was picked on them); the honest figure is
-``cv['nested_threshold']``: each fold scored with the sigma_th an inner cross-validation over the
-other folds picks (:func:`nested_threshold_cv`).
+setting that maximises the pooled out-of-fold accuracy -- the ANFIS's threshold sigma_th of eq.
+13 on a grid, the forest's share of features tried at a split (``--max-features``) among its
+candidates -- and the final model trained on everything with it, saved as JSON with
+``metadata`` holding ``mode_threshold`` (sigma_th), the command, the data counts and the CV
+results. The pooled accuracy at that setting has seen the test folds once (the setting was
+picked on them); the honest figure is ``cv['nested']``: each fold scored with the setting an
+inner cross-validation over the other folds picks (:func:`nested_cv`).
 
 The default model ``config/forest_default.json`` is made, from the project root, by
 :data:`DEFAULT_COMMAND`; the ANFIS alternative ``config/anfis_default.json`` by
@@ -69,7 +70,7 @@ References
 import argparse
 import ast
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 import fnmatch
 import functools
 import hashlib
@@ -125,6 +126,9 @@ FOREST_THRESHOLD_GRID = (0.0,)
 """sigma_th of a forest: 0, seed 001's majority vote (``core/forest.py``, majority_vote_output).
 Chosen for accuracy on a grid, sigma_th gave up recall of stairs up on HuGaDB's new wearers
 (``bench_hugadb_errors.py --parts decision``)."""
+MAX_FEATURES_CANDIDATES = (0.0625, 0.125, 0.25, 0.5)
+"""The forest's shares of the features tried at a split that ``train`` chooses among (1, 2, 4 and
+8 of the 16), by cross-validation; a single ``--max-features`` value is used as given."""
 CACHE_VERSION = 1
 PIPELINE_MODULES = ('core.input_gate', 'core.navigator', 'core.imu_data')
 """Modules whose source, with that of every module of the package they import, keys the cache."""
@@ -875,7 +879,7 @@ def stack(sets: list):
 def cross_validate(sets: list, folds: np.ndarray, options: TrainOptions,
                    progress: Progress = None) -> np.ndarray:
     """
-    Out-of-fold ANFIS output of every cycle: each fold predicted by a model trained without it.
+    Out-of-fold model output of every cycle: each fold predicted by a model trained without it.
 
     Returns
     -------
@@ -923,15 +927,33 @@ def choose_threshold(labels: np.ndarray, output: np.ndarray, grid=THRESHOLD_GRID
     return float(threshold), accuracies
 
 
-def nested_threshold_cv(sets: list, folds: np.ndarray, options: TrainOptions,
-                        output: np.ndarray, progress: Progress = None, grid=THRESHOLD_GRID):
+def choose_setting(labels: np.ndarray, outputs: list, grid=THRESHOLD_GRID):
     """
-    Score each fold with a sigma_th chosen without it: the honest cross-validated accuracy.
+    Return the candidate and sigma_th of highest accuracy; ties go to the earlier candidate.
+
+    ``outputs`` holds each candidate's outputs of the same cycles; sigma_th is chosen on each by
+    :func:`choose_threshold`. Returns (candidate index, sigma_th, that candidate's accuracy at
+    every grid value).
+    """
+    best = None
+    for index, output in enumerate(outputs):
+        threshold, accuracies = choose_threshold(labels, output, grid)
+        if best is None or max(accuracies) > max(best[2]):
+            best = (index, threshold, accuracies)
+    return best
+
+
+def nested_cv(sets: list, folds: np.ndarray, candidates: list, outputs: list,
+              progress: Progress = None, grid=THRESHOLD_GRID):
+    """
+    Score each fold with a setting chosen without it: the honest cross-validated accuracy.
 
     For fold k, an inner cross-validation over the other folds (fold j != k predicted by a model
-    trained on the folds other than j and k) gives out-of-fold outputs of all training cycles;
-    sigma_th_k = :func:`choose_threshold` on them, and fold k's outer outputs (``output``, from
-    :func:`cross_validate`) are thresholded at sigma_th_k. K folds cost K (K - 1) more fits.
+    trained on the folds other than j and k) gives each candidate's out-of-fold outputs of all
+    training cycles; (candidate_k, sigma_th_k) = :func:`choose_setting` on them, and fold k's
+    outer outputs of candidate_k (``outputs``, from :func:`cross_validate`) are thresholded at
+    sigma_th_k. K folds cost K (K - 1) more fits per candidate; none when there is nothing to
+    choose (one candidate, one sigma_th).
 
     Parameters
     ----------
@@ -939,10 +961,10 @@ def nested_threshold_cv(sets: list, folds: np.ndarray, options: TrainOptions,
         The data.
     folds : (len(sets),) int array
         Fold of each set (:func:`assign_folds`).
-    options : TrainOptions
-        Training settings, as for the outer models.
-    output : (N,) array
-        Out-of-fold outputs of the outer models, :func:`stack` order.
+    candidates : list of TrainOptions
+        The training settings to choose among (the ANFIS: one).
+    outputs : list of (N,) arrays
+        Out-of-fold outputs of each candidate's outer models, :func:`stack` order.
     progress : Progress or None
         Progress reporter.
     grid : sequence of float
@@ -950,8 +972,9 @@ def nested_threshold_cv(sets: list, folds: np.ndarray, options: TrainOptions,
 
     Returns
     -------
-    thresholds : (K,) array, sigma_th_k of each fold (None when K < 3: no inner folds to train).
-    predicted : (N,) int array, modes of the cycles, each fold at its own sigma_th (None too).
+    choices : (K,) int array, candidate_k of each fold (None when K < 3: no inner folds to train).
+    thresholds : (K,) array, sigma_th_k of each fold (None too).
+    predicted : (N,) int array, modes of the cycles, each fold at its own setting (None too).
 
     """
     progress = progress or Progress(quiet=True)
@@ -959,26 +982,46 @@ def nested_threshold_cv(sets: list, folds: np.ndarray, options: TrainOptions,
     cycle_fold = folds[owner]
     n_folds = int(folds.max()) + 1
     if n_folds < 3:
-        return None, None
-    if len(grid) == 1:                  # nothing to choose: no inner fits
-        return np.full(n_folds, float(grid[0])), stair_mode(output, float(grid[0]))
+        return None, None, None
+    if len(candidates) == 1 and len(grid) == 1:     # nothing to choose: no inner fits
+        return (np.zeros(n_folds, dtype=np.int64), np.full(n_folds, float(grid[0])),
+                stair_mode(outputs[0], float(grid[0])))
+    choices = np.empty(n_folds, dtype=np.int64)
     thresholds = np.empty(n_folds)
     predicted = np.empty(len(labels), dtype=np.int64)
     for k in range(n_folds):
-        inner = np.full(len(labels), np.nan)
+        known = cycle_fold != k
+        inner = [np.full(len(labels), np.nan) for _ in candidates]
         for j in range(n_folds):
             if j == k:
                 continue
-            train_mask = (cycle_fold != k) & (cycle_fold != j)
-            model = fit_model(features[train_mask], labels[train_mask], options)
-            inner[cycle_fold == j] = model.predict(features[cycle_fold == j])
-        known = cycle_fold != k
-        thresholds[k], _ = choose_threshold(labels[known], inner[known], grid)
-        test = cycle_fold == k
-        predicted[test] = stair_mode(output[test], thresholds[k])
-        progress.log(f'nested sigma_th, fold {k + 1}/{n_folds}: {thresholds[k]:g}, accuracy '
+            train_mask = known & (cycle_fold != j)
+            for options, output in zip(candidates, inner):
+                model = fit_model(features[train_mask], labels[train_mask], options)
+                output[cycle_fold == j] = model.predict(features[cycle_fold == j])
+        choices[k], thresholds[k], _ = choose_setting(
+            labels[known], [output[known] for output in inner], grid)
+        test = ~known
+        predicted[test] = stair_mode(outputs[choices[k]][test], thresholds[k])
+        progress.log(f'nested choice, fold {k + 1}/{n_folds}: {describe(candidates[choices[k]])}'
+                     f' sigma_th {thresholds[k]:g}, accuracy '
                      f'{np.mean(predicted[test] == labels[test]):.4f} on {int(np.sum(test))}')
-    return thresholds, predicted
+    return choices, thresholds, predicted
+
+
+def candidate_options(options: TrainOptions, max_features) -> list:
+    """Return the settings to choose among: one forest per ``max_features`` share; an ANFIS."""
+    if options.backend != 'forest':
+        return [options]
+    return [replace(options, forest=replace(options.forest, max_features=float(share)))
+            for share in max_features]
+
+
+def describe(options: TrainOptions) -> str:
+    """Name a candidate of :func:`candidate_options`: 'max_features 0.125' or 'anfis'."""
+    if options.backend == 'forest':
+        return f'max_features {options.forest.max_features:g}'
+    return options.backend
 
 
 def summarise(labels: np.ndarray, predicted: np.ndarray) -> dict:
@@ -991,13 +1034,13 @@ def summarise(labels: np.ndarray, predicted: np.ndarray) -> dict:
 
 
 def cv_report(sets, folds, fold_names, output, threshold, accuracies,
-              nested=(None, None), grid=THRESHOLD_GRID) -> dict:
+              nested=(None, None, None), candidates=(), grid=THRESHOLD_GRID) -> dict:
     """
     Cross-validation results: pooled, per source, per fold, per subject, non-stride cycles.
 
-    ``nested`` is the (thresholds, predicted) pair of :func:`nested_threshold_cv`; when given,
-    ``report['nested_threshold']`` holds its per-fold sigma_th and accuracies (all, by source,
-    by subject).
+    ``nested`` is the (choices, thresholds, predicted) of :func:`nested_cv` and ``candidates``
+    its settings; when given, ``report['nested']`` holds the per-fold setting and sigma_th and
+    the accuracies (all, by source, by subject).
     """
     _, labels, owner = stack(sets)
     predicted = stair_mode(output, threshold)
@@ -1025,9 +1068,10 @@ def cv_report(sets, folds, fold_names, output, threshold, accuracies,
         if not name.startswith('sim/'):
             mask = subject == name
             report['by_subject'][name] = summarise(labels[mask], predicted[mask])
-    thresholds, nested_predicted = nested
+    choices, thresholds, nested_predicted = nested
     if thresholds is not None:
-        report['nested_threshold'] = {
+        report['nested'] = {
+            'settings': [describe(candidates[c]) for c in choices],
             'thresholds': [float(t) for t in thresholds],
             'all': summarise(labels, nested_predicted),
             'by_source': {name: summarise(labels[source == name], nested_predicted[source == name])
@@ -1062,6 +1106,18 @@ def parse_int_list(text: str) -> list:
     if any(v < 0 for v in values):
         raise argparse.ArgumentTypeError(f'{text!r}: seeds and subjects must be >= 0')
     return sorted(values)
+
+
+def parse_share_list(text: str) -> list:
+    """Parse '0.125' or '0.0625,0.125' into shares in (0, 1], in the order given."""
+    try:
+        shares = [float(part) for part in text.split(',')]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'{text!r} is not a comma-separated list of numbers') \
+            from None
+    if not all(0.0 < share <= 1.0 for share in shares):
+        raise argparse.ArgumentTypeError(f'{text!r}: every share must be in (0, 1]')
+    return shares
 
 
 def add_parser(subparsers):
@@ -1105,8 +1161,10 @@ def add_parser(subparsers):
                      '(needs scikit-learn to train)')
     fit.add_argument('--trees', type=int, default=ForestOptions.n_trees,
                      help='forest: number of trees')
-    fit.add_argument('--max-features', type=float, default=ForestOptions.max_features,
-                     help='forest: share of the features tried at each split')
+    fit.add_argument('--max-features', type=parse_share_list,
+                     default=list(MAX_FEATURES_CANDIDATES),
+                     help='forest: share of the features tried at each split; several '
+                     '(comma-separated) are chosen among by cross-validation')
     fit.add_argument('--min-samples-leaf', type=int, default=ForestOptions.min_samples_leaf,
                      help='forest: fewest training cycles at a leaf')
     fit.add_argument('--class-weight', choices=('balanced', 'none'),
@@ -1183,9 +1241,13 @@ def run_train(args) -> int:
     rules = LabelRules(args.match_tolerance_s, args.min_majority, args.min_stride_s)
     options = TrainOptions(epochs=args.epochs, ridge=args.ridge,
                            range_quantile=args.range_quantile, backend=args.backend,
-                           forest=ForestOptions(args.trees, args.max_features,
+                           forest=ForestOptions(args.trees, ForestOptions.max_features,
                                                 args.min_samples_leaf, args.class_weight,
                                                 args.seed))
+    candidates = candidate_options(options, args.max_features)
+    if len(candidates) > 1 and args.cv == 'none':
+        raise InputError('choosing among several --max-features needs cross-validation: give '
+                         'one value with --cv none')
     pipeline = pipeline_from_yaml(args.params)
     specs = _specs_from_args(args)
     progress.log(f'{len(specs)} recordings: {len(args.sim_seeds)} simulated, '
@@ -1206,19 +1268,22 @@ def run_train(args) -> int:
         raise InputError('the labelled cycles hold a single mode; add stairs and level walking')
 
     cv = None
-    threshold = args.threshold
     grid = FOREST_THRESHOLD_GRID if options.backend == 'forest' else THRESHOLD_GRID
+    if args.threshold is not None:
+        grid = (args.threshold,)
     if args.cv != 'none':
         folds, fold_names = assign_folds(sets, args.cv, args.folds, args.seed)
-        output = cross_validate(sets, folds, options, progress)
-        best, accuracies = choose_threshold(labels, output, grid)
-        threshold = best if threshold is None else threshold
-        nested = nested_threshold_cv(sets, folds, options, output, progress, grid) \
-            if args.threshold is None else (None, None)
-        cv = cv_report(sets, folds, fold_names, output, threshold, accuracies, nested, grid)
+        outputs = [cross_validate(sets, folds, candidate, progress) for candidate in candidates]
+        chosen, threshold, accuracies = choose_setting(labels, outputs, grid)
+        options = candidates[chosen]
+        nested = nested_cv(sets, folds, candidates, outputs, progress, grid)
+        cv = cv_report(sets, folds, fold_names, outputs[chosen], threshold, accuracies, nested,
+                       candidates, grid)
         cv['scheme'] = args.cv
         cv['folds'] = len(fold_names)
-    elif threshold is None:
+        cv['candidates'] = [describe(candidate) for candidate in candidates]
+        progress.log(f'chosen on every fold: {describe(options)}, sigma_th {threshold:g}')
+    else:
         threshold = grid[0] if len(grid) == 1 else 0.5
     model = fit_model(features, labels, options)
     metadata = {
@@ -1288,6 +1353,8 @@ def reproducing_command(args, parser_defaults: dict) -> str:
                 words += [option, str(bag), str(labels_csv)]
         elif isinstance(value, bool):
             words.append(option)
+        elif dest == 'max_features':
+            words += [option, ','.join(f'{share:g}' for share in value)]
         elif isinstance(value, list):
             words += [option, format_int_list(value)]
         else:
@@ -1310,18 +1377,20 @@ def _print_summary(metadata: dict):
               f'columns predicted): {result["confusion"]}')
     for name, result in cv['by_subject'].items():
         print(f'  {name}: accuracy {result["accuracy"]:.4f} on {result["cycles"]} cycles')
-    nested = cv.get('nested_threshold')
+    nested = cv.get('nested')
     if nested:
         by_source = ', '.join(f'{name} {result["accuracy"]:.4f}'
                               for name, result in nested['by_source'].items())
-        print(f'sigma_th chosen inside the training folds (nested, '
-              f'{"/".join(f"{t:g}" for t in nested["thresholds"])}): accuracy '
+        chosen = ', '.join(f'{setting} sigma_th {t:g}'
+                           for setting, t in zip(nested['settings'], nested['thresholds']))
+        print(f'chosen inside the training folds (nested; per fold: {chosen}): accuracy '
               f'{nested["all"]["accuracy"]:.4f}; {by_source}')
         for name, accuracy in nested['by_subject'].items():
             print(f'  {name}: {accuracy:.4f}')
 
 
 __all__ = ['DEFAULT_COMMAND', 'CycleSet', 'HugadbSpec', 'LabelRules', 'SimSpec', 'TrainOptions',
-           'assign_folds', 'choose_threshold', 'collect', 'cross_validate', 'cv_report',
-           'fit_model', 'hugadb_specs', 'input_universe', 'label_recording', 'navigate',
-           'navigated', 'nested_threshold_cv', 'sim_spec', 'simulate_run', 'stack']
+           'assign_folds', 'candidate_options', 'choose_setting', 'choose_threshold', 'collect',
+           'cross_validate', 'cv_report', 'fit_model', 'hugadb_specs', 'input_universe',
+           'label_recording', 'navigate', 'navigated', 'nested_cv', 'sim_spec', 'simulate_run',
+           'stack']

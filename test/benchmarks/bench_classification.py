@@ -25,7 +25,7 @@ Three figures, each against its goal; exits 1 if one is missed:
 2. ``loso``: HuGaDB leave-one-subject-out: for each subject a model trained on the training
    simulated runs and the other subjects, per-cycle accuracy and confusion matrices (the
    ``train`` cross-validation, recomputed). Goal >= 97 %, scored with sigma_th chosen inside
-   the training folds (``train.nested_threshold_cv``; the model's and the CV-best sigma_th,
+   the training folds (``train.nested_cv``; the model's and the CV-best sigma_th,
    which saw the test folds, are shown beside it). ``--hugadb-clipped-gyro`` adds the feet whose
    gyro is a +-250 deg/s one (subjects 1-9 instead of 1-3, 6-9). Also given: the accuracy on
    cycles at least 2 s from any change of the human label (transitions are where labels and
@@ -158,7 +158,7 @@ def bench_loso(model, threshold, args) -> bool:
     else:
         print(f'  usable feet: {len(hugadb)} (gyro not clipping); subjects 4 and 5 have none '
               '(--hugadb-clipped-gyro adds them)')
-    fold_thresholds, nested = train.nested_threshold_cv(sets, folds, options, output, progress)
+    _, fold_thresholds, nested = train.nested_cv(sets, folds, [options], [output], progress)
     result = True
     for k, (title, t) in enumerate((('sigma_th chosen inside the training folds', None),
                                     ('model sigma_th', threshold),

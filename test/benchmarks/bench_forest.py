@@ -66,13 +66,16 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.strip().split('\n\n')[0])
     parser.add_argument('--cycles', type=int, default=10_000)
     parser.add_argument('--trees', type=int, default=ForestOptions.n_trees)
+    parser.add_argument('--max-features', type=float, default=ForestOptions.max_features,
+                        help='share of the features tried at a split')
     parser.add_argument('--seed', type=int, default=0)
     args = parser.parse_args(argv)
     features, labels, real = training_cycles(args.cycles, args.seed)
     print(f'{args.cycles} training cycles drawn from {real} HuGaDB cycles')
     timings = {}
     for backend in ('forest', 'anfis'):
-        options = train.TrainOptions(backend=backend, forest=ForestOptions(n_trees=args.trees))
+        forest = ForestOptions(n_trees=args.trees, max_features=args.max_features)
+        options = train.TrainOptions(backend=backend, forest=forest)
         started, started_wall = time.process_time(), time.perf_counter()
         model = train.fit_model(features, labels, options)
         fit_s, fit_wall_s = time.process_time() - started, time.perf_counter() - started_wall

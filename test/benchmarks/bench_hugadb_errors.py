@@ -19,7 +19,7 @@ Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_hugadb
 (``--clipped-gyro`` adds the +-250 deg/s feet, subjects 1-9; ``--parts`` to choose; ``--help``).
 The cross-validation is the ``train`` one (simulated seeds 1-40 + HuGaDB, one fold per subject,
 default training options), scored with sigma_th chosen inside the training folds
-(``train.nested_threshold_cv``). Parts:
+(``train.nested_cv``). Parts:
 
 - ``loso``: accuracy and confusion per subject; errors by distance of the cycle to the nearest
   change of the human label, by cycle duration (merged cycles: a stance the detector missed),
@@ -105,7 +105,7 @@ def loso(args):
     folds, _ = train.assign_folds(sets, 'subject', 0, 0)
     options = train.TrainOptions()
     output = train.cross_validate(sets, folds, options, progress)
-    thresholds, predicted = train.nested_threshold_cv(sets, folds, options, output, progress)
+    _, thresholds, predicted = train.nested_cv(sets, folds, [options], [output], progress)
     _, labels, owner = train.stack(sets)
     rows = defaultdict(list)
     for i, cycle_set in zip(keep, sets):
