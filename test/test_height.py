@@ -447,6 +447,32 @@ def test_a_stride_called_level_that_climbed_two_risers_over_two_treads_is_counte
     assert walker.tracker.level_calls_overruled == 1
 
 
+def test_a_landing_stride_called_level_after_a_flight_stays_level_whatever_it_read():
+    """
+    The seed replica, consumer IMU at 100 Hz, tilted mount: the level stride onto the landing.
+
+    It read -0.46 m over 0.67 m (the filter booking, in the landing's turn, the height error
+    the misalignment had built up); the classifier said level, and the stride's geometry, which
+    took it for three risers down, left the height 0.45 m low for the rest of the walk.
+    """
+    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K))
+    for _ in range(8):
+        walker.stride(0)
+    flight = walker.flight(-1, [2] * 9, 0.15)
+    walker.model.outputs.append(0.0)                # the model says level ...
+    walker.x_m += 0.67
+    walker.stamp += 1
+    landing = walker.tracker.update(walker.stamp, _features(-0.457), walker.x_m, 0.0)
+    assert landing.mode == 0                        # ... and the stride's geometry agrees
+    assert landing.height_m == flight[-1].height_m
+    assert flight[-1].height_m == pytest.approx(walker.true_height_m, abs=1e-9)
+    assert walker.tracker.level_calls_overruled == 0
+    walker.stride(0)
+    after = walker.flight(-1, [2] * 9, 0.15)
+    assert after[-1].height_m == pytest.approx(walker.true_height_m, abs=1e-9)
+    assert walker.tracker.recovered_strides == 0
+
+
 def test_the_slope_learnt_on_level_strides_corrects_stair_strides():
     """A misaligned IMU: +20 mm per metre walked; strides up look taller, down shorter."""
     walker = _walker(ElevationParams(step_height_m=0.17))

@@ -136,26 +136,32 @@ def test_a_flight_counts_a_sure_height_whatever_the_stride_length_says():
 def test_the_classifiers_mode_is_checked_against_the_strides_geometry():
     k_m = 0.179
     # Two or more whole risers over as many treads are stairs whatever the classifier said.
-    assert height_checked_mode(0, -0.373, 0.567, k_m) == -1     # random walk 19, consumer
-    assert height_checked_mode(0, 0.54, 0.84, k_m) == 1         # 3 risers, 3 treads
-    assert height_checked_mode(0, 0.70, 1.40, k_m) == 1         # 4 risers, the most
+    assert height_checked_mode(0, -0.373, 0.567, k_m, 0) == -1     # random walk 19, consumer
+    assert height_checked_mode(0, 0.54, 0.84, k_m, 0) == 1         # 3 risers, 3 treads
+    assert height_checked_mode(0, 0.70, 1.40, k_m, 0) == 1         # 4 risers, the most
     # One riser is not sure (a kerb, a ramp, a glitch): the classifier's call stands.
-    assert height_checked_mode(0, 0.22, 0.30, k_m) == 0
+    assert height_checked_mode(0, 0.22, 0.30, k_m, 0) == 0
     # A length no stairs of that many risers have: a level stride, or strides merged in a run.
-    assert height_checked_mode(0, 0.36, 1.30, k_m) == 0
-    assert height_checked_mode(0, 0.36, 0.30, k_m) == 0
-    assert height_checked_mode(0, 0.36, None, k_m) == 0
-    assert height_checked_mode(0, 1.31, 14.6, k_m) == 0         # gdin walk 35's run
-    assert height_checked_mode(0, 1.00, 1.50, k_m) == 0         # 6 risers: beyond 4
+    assert height_checked_mode(0, 0.36, 1.30, k_m, 0) == 0
+    assert height_checked_mode(0, 0.36, 0.30, k_m, 0) == 0
+    assert height_checked_mode(0, 0.36, None, k_m, 0) == 0
+    assert height_checked_mode(0, 1.31, 14.6, k_m, 0) == 0         # gdin walk 35's run
+    assert height_checked_mode(0, 1.00, 1.50, k_m, 0) == 0         # 6 risers: beyond 4
     # A stair call on a stride that climbed less than half a riser is level (x-io's straight
     # walk: level strides of 1.44 m called down, which eq. 14 counted as 4 risers each).
-    assert height_checked_mode(-1, -0.021, 1.44, k_m) == 0
-    assert height_checked_mode(1, 0.089, 0.77, k_m) == 0
-    assert height_checked_mode(1, 0.09, 1.44, k_m) == 1         # half a riser: a riser
+    assert height_checked_mode(-1, -0.021, 1.44, k_m, 0) == 0
+    assert height_checked_mode(1, 0.089, 0.77, k_m, 0) == 0
+    assert height_checked_mode(1, 0.09, 1.44, k_m, 0) == 1         # half a riser: a riser
     # ... not on a stride of two treads or less: a flight's first or last, half on a landing.
-    assert height_checked_mode(1, 0.03, 0.76, k_m) == 1
-    assert height_checked_mode(1, 0.03, None, k_m) == 1
-    assert height_checked_mode(-1, 0.20, 0.30, k_m) == -1       # a riser, the other way: as said
+    assert height_checked_mode(1, 0.03, 0.76, k_m, 0) == 1
+    assert height_checked_mode(1, 0.03, None, k_m, 0) == 1
+    assert height_checked_mode(-1, 0.20, 0.30, k_m, 0) == -1     # a riser, the other way: as said
+    # After a stair stride a level call stands: the replica's consumer IMU (100 Hz, tilted
+    # mount) read -0.46 m on the level stride onto a landing, counted as three risers down.
+    assert height_checked_mode(0, -0.457, 0.67, 0.15, -1) == 0
+    assert height_checked_mode(0, -0.457, 0.67, 0.15, 0) == -1   # after level: a flight's first
+    assert height_checked_mode(0, 0.54, 0.84, k_m, 1) == 0
+    assert height_checked_mode(-1, -0.021, 1.44, k_m, -1) == 0     # the first line as before
 
 
 def test_level_slope_is_the_median_height_per_metre():

@@ -423,7 +423,8 @@ class ElevationTracker:
         dh_m = float(features[HEIGHT_CHANGE])
         length_m = None if self._last_xy is None or self._lost else math.hypot(
             x_m - self._last_xy[0], y_m - self._last_xy[1])
-        checked = height_checked_mode(mode, dh_m, length_m, self.step_height_m)
+        checked = height_checked_mode(mode, dh_m, length_m, self.step_height_m,
+                                      self._last_mode)
         self.stair_calls_overruled += mode != MODE_LEVEL and checked == MODE_LEVEL
         self.level_calls_overruled += mode == MODE_LEVEL and checked != MODE_LEVEL
         mode = checked

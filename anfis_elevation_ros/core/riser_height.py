@@ -160,23 +160,29 @@ def allowed_riser_counts(length_m: Optional[float]) -> np.ndarray:
 
 
 def height_checked_mode(mode: int, dh_m: float, length_m: Optional[float],
-                        step_height_m: float) -> int:
+                        step_height_m: float, last_mode: int) -> int:
     """
     Check the classifier's stair mode C against the stride's geometry; return C'.
 
         C' = 0           if C != 0, round(|dh| / K) = 0 and L > 2 T_max
-        C' = sign(dh)    if C = 0, n = round(|dh| / K) in 2..N_max and n T_min <= L <= n T_max
+        C' = sign(dh)    if C = 0, C_prev = 0, n = round(|dh| / K) in 2..N_max and
+                         n T_min <= L <= n T_max
         C' = C           otherwise (and whenever L is unknown)
 
     dh is the stride's raw height change (not slope-corrected: a slope learnt on the few level
     strides of a stairwell can be decimetres per metre off, while a misaligned IMU's slope moves
-    a stair stride by 2 cm at most), L its horizontal length, T_min, T_max
-    :data:`TREAD_RANGE_M` and N_max :data:`MAX_RISERS`. A stride longer than two treads that
-    climbed less than half a riser is level walking, where eq. 14 would count it as one riser
-    at least, or as many as its length allows (4 for a 1.4 m stride). Two or more whole risers
-    over a length that n treads fit is no level stride: a level stride reads centimetres, a
-    ramp under 1:8 at most 0.18 m over 1.4 m, and a level cycle that reads decimetres (strides
-    merged in a run, an INS glitch) is metres long. Both lines trust the INS stride: an
+    a stair stride by 2 cm at most), L its horizontal length, C_prev the checked mode of the
+    cycle before, T_min, T_max :data:`TREAD_RANGE_M` and N_max :data:`MAX_RISERS`. A stride
+    longer than two treads that climbed less than half a riser is level walking, where eq. 14
+    would count it as one riser at least, or as many as its length allows (4 for a 1.4 m
+    stride). Two or more whole risers over a length that n treads fit is no level stride when
+    it follows level walking: a level stride reads centimetres, a ramp under 1:8 at most 0.18 m
+    over 1.4 m, and a level cycle that reads decimetres (strides merged in a run, an INS glitch)
+    is metres long. After a stair stride the classifier's level stands: the stride onto a
+    landing can read decimetres (a consumer IMU's filter books, in the landing's turn, the
+    height error its misalignment had built up: 0.46 m on one level stride), and a stair stride
+    called level inside a flight is the first stride of the flight that goes on, which
+    :meth:`ElevationTracker._missed_first_stride` recovers. Both lines trust the INS stride: an
     accelerometer that clips in every swing (HuGaDB's +-2 g) breaks them (README).
     """
     if length_m is None:
@@ -185,7 +191,7 @@ def height_checked_mode(mode: int, dh_m: float, length_m: Optional[float],
     low, high = TREAD_RANGE_M
     if mode != 0:
         return 0 if n == 0 and length_m > 2 * high else mode
-    if 2 <= n <= MAX_RISERS and n * low <= length_m <= n * high:
+    if last_mode == 0 and 2 <= n <= MAX_RISERS and n * low <= length_m <= n * high:
         return int(math.copysign(1, dh_m))
     return 0
 
