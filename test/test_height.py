@@ -473,6 +473,28 @@ def test_a_landing_stride_called_level_after_a_flight_stays_level_whatever_it_re
     assert walker.tracker.recovered_strides == 0
 
 
+def test_a_flights_long_first_stride_from_the_floor_counts_the_risers_it_climbed():
+    """
+    Random walk 81 (consumer): the first stride up a flight went 0.91 m and one riser.
+
+    It read 0.216 m (1.3 risers of the 0.17 m prior); counted within the risers its length
+    fits as a stair stride (3-4 treads), it was three: 0.36 m high for the rest of the walk.
+    From the floor before the stairs, only L >= n T_min holds.
+    """
+    walker = _walker(ElevationParams())
+    for _ in range(8):
+        walker.stride(0)
+    walker.model.outputs.append(1.0)
+    walker.x_m += 0.91
+    walker.true_height_m += 0.15
+    walker.stamp += 1
+    first = walker.tracker.update(walker.stamp, _features(0.216), walker.x_m, 0.0)
+    assert first.height_m == pytest.approx(first.step_height_m, abs=1e-12)      # one riser
+    flight = walker.flight(1, [1] * 10, 0.15)
+    assert flight[-1].height_m == pytest.approx(11 * flight[-1].step_height_m, abs=1e-12)
+    assert abs(flight[-1].height_m - walker.true_height_m) < 0.05
+
+
 def test_the_slope_learnt_on_level_strides_corrects_stair_strides():
     """A misaligned IMU: +20 mm per metre walked; strides up look taller, down shorter."""
     walker = _walker(ElevationParams(step_height_m=0.17))

@@ -116,6 +116,12 @@ def test_riser_count_bounds_follow_the_stride_length():
     assert riser_count_bounds(0.28) == (1, 1)
     for unknown in (None, float('nan'), 5.0, 0.05):
         assert riser_count_bounds(unknown)[0] == 1 and riser_count_bounds(unknown)[1] > 100
+    # A flight's first stride starts on the floor before the stairs: at most L / T_min risers.
+    assert riser_count_bounds(0.91, from_level=True)[1] > 100            # 1..4: any
+    assert riser_count_bounds(0.56, from_level=True) == (1, 2)
+    assert riser_count_bounds(0.28, from_level=True) == (1, 1)
+    assert allowed_riser_counts(0.91, from_level=True).tolist() == [True] * 4
+    assert allowed_riser_counts(0.50, from_level=True).tolist() == [True, True, False, False]
 
 
 def test_a_flight_counts_a_sure_height_whatever_the_stride_length_says():

@@ -480,11 +480,14 @@ class ElevationTracker:
 
     def _add_stair_stride(self, dh_m: float, length_m: Optional[float], end_xy: tuple):
         """Add a stair stride to the open flight and its stairwell's riser estimate."""
-        bounds = riser_count_bounds(length_m) if self.risers.estimating else \
-            riser_count_bounds(None)        # K known: eq. 14 as the patent has it
-        if bounds[1] <= MAX_RISERS:         # a length that fits stairs: correct the slope
-            dh_m = self.slope.corrected(dh_m, length_m)
-        self.risers.add(dh_m, length_m, end_xy, self.slope.stride_sigma_m)
+        from_level = not self._flight_abs_dh_m      # the flight's first: from the floor before
+        if not self.risers.estimating:
+            bounds = riser_count_bounds(None)       # K known: eq. 14 as the patent has it
+        else:
+            if riser_count_bounds(length_m)[1] <= MAX_RISERS:   # fits stairs: correct the slope
+                dh_m = self.slope.corrected(dh_m, length_m)
+            bounds = riser_count_bounds(length_m, from_level)
+        self.risers.add(dh_m, length_m, end_xy, self.slope.stride_sigma_m, from_level)
         self._flight_abs_dh_m.append(abs(dh_m))
         self._flight_cycles.append(1)
         self._flight_bounds.append(bounds)

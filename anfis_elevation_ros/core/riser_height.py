@@ -139,12 +139,14 @@ def log_prior(k_grid_m: np.ndarray, prior_m: float, sigma_m: float = PRIOR_SIGMA
     return -0.5 * ((np.asarray(k_grid_m) - prior_m) / sigma_m) ** 2
 
 
-def allowed_riser_counts(length_m: Optional[float]) -> np.ndarray:
+def allowed_riser_counts(length_m: Optional[float], from_level: bool = False) -> np.ndarray:
     """
     Riser counts a stride of horizontal length L can have: n T_min <= L <= n T_max.
 
     n in {1..MAX_RISERS} with T_min = TREAD_RANGE_M[0], T_max = TREAD_RANGE_M[1]; None or a
-    length that allows none (a landing stride, an INS error) allows every n.
+    length that allows none (a landing stride, an INS error) allows every n. A flight's first
+    stride (``from_level``) starts on the floor before the stairs, so only n T_min <= L holds:
+    a foot that stepped 0.9 m onto the first step climbed one riser, not three.
 
     Returns
     -------
@@ -155,7 +157,7 @@ def allowed_riser_counts(length_m: Optional[float]) -> np.ndarray:
     if length_m is None or not math.isfinite(length_m):
         return np.ones(MAX_RISERS, dtype=bool)
     low, high = TREAD_RANGE_M
-    allowed = (counts * low <= length_m) & (length_m <= counts * high)
+    allowed = (counts * low <= length_m) & (from_level or length_m <= counts * high)
     return allowed if allowed.any() else np.ones(MAX_RISERS, dtype=bool)
 
 
@@ -196,7 +198,7 @@ def height_checked_mode(mode: int, dh_m: float, length_m: Optional[float],
     return 0
 
 
-def riser_count_bounds(length_m: Optional[float]) -> tuple:
+def riser_count_bounds(length_m: Optional[float], from_level: bool = False) -> tuple:
     """
     Fewest and most risers a stride of horizontal length L can have, (n_low, n_high).
 
@@ -205,7 +207,7 @@ def riser_count_bounds(length_m: Optional[float]) -> tuple:
     """
     if length_m is None or not math.isfinite(length_m):
         return 1, UNBOUNDED_RISERS
-    counts = np.flatnonzero(allowed_riser_counts(length_m)) + 1
+    counts = np.flatnonzero(allowed_riser_counts(length_m, from_level)) + 1
     if len(counts) == MAX_RISERS:
         return 1, UNBOUNDED_RISERS
     return int(counts[0]), int(counts[-1])
@@ -430,18 +432,20 @@ class StairwellRiserHeights:
         self._index = None
 
     def add(self, dh_m: float, length_m: Optional[float] = None,
-            end_xy: Optional[tuple] = None, sigma_m: float = STRIDE_SIGMA_M) -> float:
+            end_xy: Optional[tuple] = None, sigma_m: float = STRIDE_SIGMA_M,
+            from_level: bool = False) -> float:
         """
         Add a stride (ending at (x, y), m) to the open flight; return the estimate, m.
 
-        ``sigma_m`` is the stride's height noise (:func:`stride_noise_sigma`).
+        ``sigma_m`` is the stride's height noise (:func:`stride_noise_sigma`); ``from_level``
+        says it is the flight's first (:func:`allowed_riser_counts`).
         """
         if not math.isfinite(dh_m):
             raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
         if self._flight_log_likelihood is None:
             self.start_flight()
         self._flight_log_likelihood += stride_log_likelihood(
-            dh_m, K_GRID_M, allowed_riser_counts(length_m), sigma_m)
+            dh_m, K_GRID_M, allowed_riser_counts(length_m, from_level), sigma_m)
         self._flight_strides += 1
         self._flight_end_xy = end_xy
         same_stairs = self._stairwell_ending_near(self._flight_start_xy)
