@@ -480,7 +480,9 @@ class ElevationTracker:
 
     def _add_stair_stride(self, dh_m: float, length_m: Optional[float], end_xy: tuple):
         """Add a stair stride to the open flight and its stairwell's riser estimate."""
-        from_level = not self._flight_abs_dh_m      # the flight's first: from the floor before
+        # The open flight's first stride starts on the floor before the stairs; after a restart
+        # or a parameter change mid-flight the next stride is taken as one too (a looser bound).
+        from_level = not self._flight_abs_dh_m
         if not self.risers.estimating:
             bounds = riser_count_bounds(None)       # K known: eq. 14 as the patent has it
         else:
