@@ -251,7 +251,14 @@ def test_late_and_restarted_classifier_carries_on(walk, ros):
         f'final floor {listener.floors[-1:]}; log:\n{classifier.log()}'
     assert 'resuming from' in classifier.log() and saved.cycle_index > 10
     published = {stamp: height for stamp, _, _, height, _ in listener.elevations}
-    assert listener.elevations[-1][0] == max(offline) and len(published) >= 0.5 * len(offline)
+    assert listener.elevations[-1][0] == max(offline)
+    # The history bursts at each start may reach the listener as their last cycle only (on a
+    # loaded CI machine 13 of 32 cycles were heard in all): compare the cycles heard, and ask
+    # for three cycles from each side of the kill, with none heard that offline lacks.
+    kill_ns, resume_ns = rec.stamp_ns[second_cut], rec.stamp_ns[second_cut + int(5 * RATE_HZ)]
+    assert sum(stamp <= kill_ns for stamp in published) >= 3, sorted(published)
+    assert sum(stamp > resume_ns for stamp in published) >= 3, sorted(published)
+    assert published.keys() <= offline.keys(), sorted(published.keys() - offline.keys())
     # The state saves the riser estimate, not its strides: after the resume K may differ from
     # the offline run's by a grid step (1 mm), and the flights before it keep the saved K.
     assert all(abs(height - offline[stamp]) < 0.02 for stamp, height in published.items()), \
