@@ -186,6 +186,16 @@ def test_level_slope_is_the_median_height_per_metre():
     assert slope.slope == 0.0
 
 
+def test_a_slope_needs_four_level_strides():
+    # The MaD left foot: two level strides before the stairs, one of them already climbing.
+    slope = LevelSlope()
+    for dh in (0.02, 0.2, 0.03):
+        slope.add_level(dh, 1.0)
+        assert slope.slope == 0.0 and slope.corrected(0.3, 0.6) == 0.3
+    slope.add_level(0.01, 1.0)
+    assert slope.slope == pytest.approx(0.025)
+
+
 def test_the_stride_noise_is_what_the_slope_leaves_of_level_strides():
     assert stride_noise_sigma([0.01] * 7) == STRIDE_SIGMA_M     # too few to say
     # 1.4826 median |r| is the sigma of Gaussian residuals; f = 2 of it.

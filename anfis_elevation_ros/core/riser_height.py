@@ -100,6 +100,13 @@ last 64, K came out 0.132 m for 0.1405 m). Chosen from 8, 16 and 64 on random wa
 51-80 (README).
 """
 
+MIN_SLOPE_STRIDES = 4
+"""
+Fewer level strides than this give no slope (0): the median of two or three is one stride's
+word, and the MaD left foot's two level strides before its stairs (one of them already
+climbing 0.2 m) said 0.105 m/m, which took its K to the grid's floor (README).
+"""
+
 SLOPE_MIN_LENGTH_M = 0.5
 """Shorter level strides (turns, shuffles) say little about the slope, m."""
 
@@ -574,7 +581,8 @@ class LevelSlope:
     but the filter's tilt and bias estimates move during a walk); it makes
     strides up look taller than strides down by 2 c L. On level strides the true height change
     is 0, so (:func:`level_slope`) c = median_i dh_i / L_i over the last :data:`SLOPE_STRIDES`
-    level strides of at least :data:`SLOPE_MIN_LENGTH_M`; a stair stride is then corrected
+    level strides of at least :data:`SLOPE_MIN_LENGTH_M` (0 before :data:`MIN_SLOPE_STRIDES`
+    of them); a stair stride is then corrected
     to dh - c L before K is estimated and its risers counted. What the slope leaves of a level
     stride, dh - c L, is the INS's stride height noise on this sensor and gait
     (:func:`stride_noise_sigma`, :attr:`stride_sigma_m`).
@@ -587,15 +595,17 @@ class LevelSlope:
     def add_level(self, dh_m: float, length_m: Optional[float]):
         """Take a level stride's raw height change and horizontal length, m."""
         if length_m is not None and length_m >= SLOPE_MIN_LENGTH_M and math.isfinite(dh_m):
-            if self._ratios:        # the slope before this stride: the residual is out of sample
+            # The slope before this stride, once there is one: the residual is out of sample
+            # (a residual with no slope taken off is a consumer IMU's 2-28 mm/m, not noise).
+            if len(self._ratios) >= MIN_SLOPE_STRIDES:
                 self._residuals = (self._residuals + [self.corrected(dh_m, length_m)])[
                     -NOISE_STRIDES:]
             self._ratios = (self._ratios + [dh_m / length_m])[-SLOPE_STRIDES:]
 
     @property
     def slope(self) -> float:
-        """Return c, m of height per m of stride (0 before any level stride)."""
-        return level_slope(self._ratios)
+        """Return c, m of height per m of stride (0 before :data:`MIN_SLOPE_STRIDES`)."""
+        return level_slope(self._ratios) if len(self._ratios) >= MIN_SLOPE_STRIDES else 0.0
 
     @property
     def stride_sigma_m(self) -> float:
