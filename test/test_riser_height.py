@@ -17,10 +17,9 @@
 from functools import partial
 
 from anfis_elevation_ros.core.riser_height import allowed_riser_counts, height_checked_mode
-from anfis_elevation_ros.core.riser_height import K_GRID_M, level_slope, LevelSlope, log_prior
+from anfis_elevation_ros.core.riser_height import K_GRID_M, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
 from anfis_elevation_ros.core.riser_height import StairwellRiserHeights, stride_log_likelihood
-from anfis_elevation_ros.core.riser_height import stride_noise_sigma, STRIDE_SIGMA_M
 from anfis_elevation_ros.core.stair_steps import flight_riser_count
 import numpy as np
 import pytest
@@ -168,50 +167,6 @@ def test_the_classifiers_mode_is_checked_against_the_strides_geometry():
     assert height_checked_mode(0, -0.457, 0.67, 0.15, 0) == -1   # after level: a flight's first
     assert height_checked_mode(0, 0.54, 0.84, k_m, 1) == 0
     assert height_checked_mode(-1, -0.021, 1.44, k_m, -1) == 0     # the first line as before
-
-
-def test_level_slope_is_the_median_height_per_metre():
-    assert level_slope([]) == 0.0
-    slope = LevelSlope()
-    for dh in (0.028, 0.030, 0.5, 0.026):           # one glitch: the median ignores it
-        slope.add_level(dh, 1.4)
-    slope.add_level(0.2, 0.3)                       # too short to say anything
-    assert slope.slope == pytest.approx(0.029 / 1.4 * 1.0, rel=0.05)
-    assert slope.corrected(0.30 + 0.56 * slope.slope, 0.56) == pytest.approx(0.30)
-    assert slope.corrected(0.31, None) == 0.31
-    # The slope follows the walk: 14 strides at -0.03 m/m, then 9 at 0 (random walk 67,
-    # consumer IMU, where the filter's tilt estimate moved after a turn on the spot).
-    for dh in [-0.042] * 14 + [0.0] * 9:
-        slope.add_level(dh, 1.4)
-    assert slope.slope == 0.0
-
-
-def test_a_slope_needs_four_level_strides():
-    # The MaD left foot: two level strides before the stairs, one of them already climbing.
-    slope = LevelSlope()
-    for dh in (0.02, 0.2, 0.03):
-        slope.add_level(dh, 1.0)
-        assert slope.slope == 0.0 and slope.corrected(0.3, 0.6) == 0.3
-    slope.add_level(0.01, 1.0)
-    assert slope.slope == pytest.approx(0.025)
-
-
-def test_the_stride_noise_is_what_the_slope_leaves_of_level_strides():
-    assert stride_noise_sigma([0.01] * 7) == STRIDE_SIGMA_M     # too few to say
-    # 1.4826 median |r| is the sigma of Gaussian residuals; f = 2 of it.
-    residuals = np.random.default_rng(3).normal(0.0, 0.004, 2000)
-    assert stride_noise_sigma(residuals) == pytest.approx(2 * 0.004, rel=0.05)
-    assert stride_noise_sigma([0.0] * 8) == 0.001                # never below the grid step
-    assert stride_noise_sigma([0.05] * 8) == STRIDE_SIGMA_M      # nor above the default
-    slope = LevelSlope()
-    assert slope.stride_sigma_m == STRIDE_SIGMA_M
-    rng = np.random.default_rng(5)
-    for dh in 0.02 * 1.4 + rng.normal(0.0, 0.003, 40):          # slope 0.02 m/m, 3 mm noise
-        slope.add_level(dh, 1.4)
-    assert slope.stride_sigma_m == pytest.approx(2 * 0.003, rel=0.3)
-    for dh in 0.02 * 1.4 + rng.normal(0.0, 0.0045, 40):         # a noisier sensor: the last 32
-        slope.add_level(dh, 1.4)
-    assert slope.stride_sigma_m == pytest.approx(2 * 0.0045, rel=0.3)
 
 
 @pytest.mark.parametrize('sigma_m, expected_wells', [(0.004, 2), (0.01, 1)])

@@ -70,7 +70,8 @@ from .classifier import as_classifier
 from .errors import InputError
 from .floors import floor_index, floor_map_for, FloorSettler, round_half_away
 from .gait import FEATURE_NAMES
-from .riser_height import height_checked_mode, known_riser_height_m, LevelSlope, MAX_RISERS
+from .level_strides import LevelSlope
+from .riser_height import height_checked_mode, known_riser_height_m, MAX_RISERS
 from .riser_height import PRIOR_SIGMA_M, riser_count_bounds
 from .riser_height import StairwellRiserHeights
 from .stair_steps import bridged_step_count, flight_riser_count, MODE_DOWN, MODE_LEVEL, MODE_UP

@@ -31,14 +31,13 @@ file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``
 
 One estimate per stairwell (:class:`StairwellRiserHeights`): each flight joins the stairwell
 whose posterior explains its strides best, or starts a new one (:func:`stairwell_evidence`).
-Before a stride reaches the estimate its slope error is removed (:class:`LevelSlope`,
-:func:`level_slope`: the raw height per horizontal metre measured on level strides).
+Before a stride reaches the estimate its slope error is removed, and its noise sigma is the
+level strides' (``core/level_strides.py``).
 
 Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`riser_count_bounds`,
 :func:`height_checked_mode`, :func:`stride_log_likelihood`, :class:`RiserHeightEstimator`,
 :class:`StairwellRiserHeights`,
-:func:`stairwell_evidence`, :class:`LevelSlope`, :func:`level_slope`, :func:`stride_noise_sigma`,
-:func:`known_riser_height_m`, :data:`K_GRID_M`.
+:func:`stairwell_evidence`, :func:`known_riser_height_m`, :data:`K_GRID_M`.
 
 References
 ----------
@@ -51,6 +50,8 @@ import numbers
 from typing import Callable, Optional
 
 import numpy as np
+
+from .level_strides import STRIDE_SIGMA_M
 
 K_GRID_M = np.round(np.arange(0.130, 0.2105, 0.001), 3)
 """Riser heights searched, m: building codes allow about 0.14-0.20 m."""
@@ -70,45 +71,8 @@ TREAD_RANGE_M = (0.20, 0.38)
 OUTLIER_PROB = 0.05
 """Probability that a stair stride fits no riser count (misclassified, INS glitch)."""
 
-STRIDE_SIGMA_M = 0.01
-"""
-Noise sigma of one stride's raw height change, m: before the level strides measure it, and
-the widest they set (:func:`stride_noise_sigma`).
-"""
-
-NOISE_STRIDES = 32
-"""Level strides behind the stride noise estimate (:func:`stride_noise_sigma`)."""
-
-MIN_NOISE_STRIDES = 8
-"""Fewer level strides than this say too little: :data:`STRIDE_SIGMA_M` is used."""
-
-NOISE_SIGMA_FACTOR = 2.0
-"""sigma = this x the level strides' scatter: flights of one stair read a few % apart too."""
-
-MIN_STRIDE_SIGMA_M = 0.001
-"""Narrowest stride noise, m: the grid step (:data:`K_GRID_M`)."""
-
 PRIOR_SIGMA_M = 0.02
 """Sigma of the prior around ``elevation.step_height_m``, m: weak, a few strides override it."""
-
-SLOPE_STRIDES = 8
-"""
-Level strides behind the slope correction (:class:`LevelSlope`): the latest only, because the
-slope moves during a walk as the filter's tilt and accelerometer bias estimates move (random
-walk 67, consumer IMU: -0.03 m/m for 14 strides, about 0 after a turn on the spot; with the
-last 64, K came out 0.132 m for 0.1405 m). Chosen from 8, 16 and 64 on random walks 14-20 and
-51-80 (README).
-"""
-
-MIN_SLOPE_STRIDES = 4
-"""
-Fewer level strides than this give no slope (0): the median of two or three is one stride's
-word, and the MaD left foot's two level strides before its stairs (one of them already
-climbing 0.2 m) said 0.105 m/m, which took its K to the grid's floor (README).
-"""
-
-SLOPE_MIN_LENGTH_M = 0.5
-"""Shorter level strides (turns, shuffles) say little about the slope, m."""
 
 SAME_STAIRS_M = 3.0
 """A flight starting this close (m) to where a stairwell's last flight ended is in it."""
@@ -444,8 +408,8 @@ class StairwellRiserHeights:
         """
         Add a stride (ending at (x, y), m) to the open flight; return the estimate, m.
 
-        ``sigma_m`` is the stride's height noise (:func:`stride_noise_sigma`); ``from_level``
-        says it is the flight's first (:func:`allowed_riser_counts`).
+        ``sigma_m`` is the stride's height noise (``level_strides.stride_noise_sigma``);
+        ``from_level`` says it is the flight's first (:func:`allowed_riser_counts`).
         """
         if not math.isfinite(dh_m):
             raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
@@ -570,82 +534,6 @@ def stairwell_evidence(log_posterior: np.ndarray, flight_log_likelihood: np.ndar
     log p(dh_flight | w) = log sum_K p(K | w) p(dh_flight | K)
     """
     return _log_sum_exp(log_posterior + flight_log_likelihood)
-
-
-class LevelSlope:
-    """
-    Height error of the raw INS per horizontal metre, learnt from level strides.
-
-    A misaligned accelerometer (a cross-axis term) turns forward motion into a height error
-    per forward metre, which no zero-velocity update sees (constant for a fixed tilt error,
-    but the filter's tilt and bias estimates move during a walk); it makes
-    strides up look taller than strides down by 2 c L. On level strides the true height change
-    is 0, so (:func:`level_slope`) c = median_i dh_i / L_i over the last :data:`SLOPE_STRIDES`
-    level strides of at least :data:`SLOPE_MIN_LENGTH_M` (0 before :data:`MIN_SLOPE_STRIDES`
-    of them); a stair stride is then corrected
-    to dh - c L before K is estimated and its risers counted. What the slope leaves of a level
-    stride, dh - c L, is the INS's stride height noise on this sensor and gait
-    (:func:`stride_noise_sigma`, :attr:`stride_sigma_m`).
-    """
-
-    def __init__(self):
-        self._ratios = []
-        self._residuals = []
-
-    def add_level(self, dh_m: float, length_m: Optional[float]):
-        """Take a level stride's raw height change and horizontal length, m."""
-        if length_m is not None and length_m >= SLOPE_MIN_LENGTH_M and math.isfinite(dh_m):
-            # The slope before this stride, once there is one: the residual is out of sample
-            # (a residual with no slope taken off is a consumer IMU's 2-28 mm/m, not noise).
-            if len(self._ratios) >= MIN_SLOPE_STRIDES:
-                self._residuals = (self._residuals + [self.corrected(dh_m, length_m)])[
-                    -NOISE_STRIDES:]
-            self._ratios = (self._ratios + [dh_m / length_m])[-SLOPE_STRIDES:]
-
-    @property
-    def slope(self) -> float:
-        """Return c, m of height per m of stride (0 before :data:`MIN_SLOPE_STRIDES`)."""
-        return level_slope(self._ratios) if len(self._ratios) >= MIN_SLOPE_STRIDES else 0.0
-
-    @property
-    def stride_sigma_m(self) -> float:
-        """Return the stride height noise sigma, m (:func:`stride_noise_sigma`)."""
-        return stride_noise_sigma(self._residuals)
-
-    def corrected(self, dh_m: float, length_m: Optional[float]) -> float:
-        """Return a stair stride's height change without the slope error, dh - c L, m."""
-        return dh_m if length_m is None else dh_m - self.slope * length_m
-
-
-def level_slope(ratios) -> float:
-    """
-    Height error per horizontal metre from level strides.
-
-    c = median_i (dh_i / L_i)      (0 with no stride)
-    """
-    return float(np.median(ratios)) if len(ratios) else 0.0
-
-
-def stride_noise_sigma(residuals) -> float:
-    """
-    Noise sigma of a stride's raw height change, from level strides (true change 0).
-
-    sigma = min(sigma_0, max(sigma_min, f 1.4826 median_i |dh_i - c L_i|))
-
-    over the last :data:`NOISE_STRIDES` level strides, c the slope before stride i
-    (:class:`LevelSlope`); 1.4826 median |r| is the standard deviation of Gaussian r, robust
-    to a stair stride called level. f = :data:`NOISE_SIGMA_FACTOR`; sigma_min =
-    :data:`MIN_STRIDE_SIGMA_M`; sigma_0 = :data:`STRIDE_SIGMA_M`, also the answer with fewer
-    than :data:`MIN_NOISE_STRIDES` residuals. The level strides can show that a sensor is
-    better than sigma_0 assumes (a simulated tactical IMU scatters by 2 mm: then stairs whose
-    risers are 5 mm apart are told apart), not that it is worse: a wider sigma let flights
-    of different riser heights share one K in the simulator, and the real feet that scatter
-    by 20-70 mm have no height truth to say what a wider sigma would do (README).
-    """
-    if len(residuals) < MIN_NOISE_STRIDES:
-        return STRIDE_SIGMA_M
-    scatter_m = 1.4826 * float(np.median(np.abs(residuals)))
-    return min(STRIDE_SIGMA_M, max(MIN_STRIDE_SIGMA_M, NOISE_SIGMA_FACTOR * scatter_m))
 
 
 def known_riser_height_m(building) -> Optional[float]:
