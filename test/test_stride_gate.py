@@ -130,6 +130,21 @@ def test_a_mid_swing_dip_below_the_bound_is_refused_inside_the_refractory_period
     assert np.array_equal(relaxed, minima + 5)
 
 
+def test_a_hover_mid_swing_after_a_long_stance_is_no_stance():
+    # Stairs (x-io's spiral stairs): stances of 0.5 s, swings of 0.6 s in which the foot
+    # hovers over the next step for 0.1 s. 0.7 of the 1.1 s stride period after a stance
+    # began falls in that hover; counted from the stance's end it does not.
+    def stair_stride():
+        swing = np.full(60, 1e10)
+        swing[25:35] = 1.5e7
+        return np.concatenate((swing, np.full(50, 1e6)))
+    statistics = np.concatenate([np.full(50, 1e5)] + [stair_stride() for _ in range(6)])
+    flags, _ = run(statistics, statistics < GAMMA)
+    assert not np.any(flags & 4)
+    opened = np.flatnonzero((flags & 2 == 2) & np.r_[True, flags[:-1] & 2 == 0])
+    assert len(opened) == 1 + 6          # the stand, then one cycle a stride
+
+
 def test_a_stance_broken_briefly_continues_and_after_a_long_break_opens_no_cycle():
     statistics = np.concatenate([np.full(50, 1e5), stride(1e6), np.full(80, 1e6)])
     statistics[-75:-65] = 1e8          # 0.1 s of movement, no swing: the same stance

@@ -224,8 +224,8 @@ _DOCS = {
     'stride_gate.relaxed_floor': ('... or below this (the threshold of the first, gentle '
                                   'steps after a stand is low).', 0.0, 1e13, _READ_ONLY),
     'stride_gate.refractory_fraction': ('No relaxed stance before this fraction of the running '
-                                        'stride period since the last cycle.', 0.0, 1.0,
-                                        _READ_ONLY),
+                                        'stride period since the last stance sample.', 0.0,
+                                        1.0, _READ_ONLY),
     'stride_gate.swing_level': ('SHOE statistic of a swing (dimensionless; 3e8: a foot turning '
                                 'at about 1.5 rad/s).', 1.0, 1e13,
                                 _READ_ONLY),
