@@ -21,7 +21,7 @@ import pytest
 
 
 def test_level_slope_is_the_median_height_per_metre():
-    assert level_slope([]) == 0.0
+    assert level_slope([]) == 0.0 and level_slope([0.1, 0.1, 0.1]) == 0.0
     slope = LevelSlope()
     for dh in (0.028, 0.030, 0.5, 0.026):           # one glitch: the median ignores it
         slope.add_level(dh, 1.4)

@@ -104,7 +104,7 @@ class LevelSlope:
     @property
     def slope(self) -> float:
         """Return c, m of height per m of stride (0 before :data:`MIN_SLOPE_STRIDES`)."""
-        return level_slope(self._ratios) if len(self._ratios) >= MIN_SLOPE_STRIDES else 0.0
+        return level_slope(self._ratios)
 
     @property
     def stride_sigma_m(self) -> float:
@@ -120,9 +120,9 @@ def level_slope(ratios) -> float:
     """
     Height error per horizontal metre from level strides.
 
-    c = median_i (dh_i / L_i)      (0 with no stride)
+    c = median_i (dh_i / L_i)      (0 with fewer than :data:`MIN_SLOPE_STRIDES` strides)
     """
-    return float(np.median(ratios)) if len(ratios) else 0.0
+    return float(np.median(ratios)) if len(ratios) >= MIN_SLOPE_STRIDES else 0.0
 
 
 def stride_noise_sigma(residuals) -> float:
