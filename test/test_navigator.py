@@ -16,6 +16,7 @@
 
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
+from anfis_elevation_ros.core.stride_gate import StrideGateParams
 from anfis_elevation_ros.sim import sample_walk, Segment, simulate_walk
 import numpy as np
 import pytest
@@ -214,8 +215,12 @@ def glide(glide_s, rate_hz=200.0, accel_mps2=(5.0, 0.0, 5.0), push_s=0.3, brake=
 def test_a_foot_gliding_mid_swing_is_not_a_stance(max_nis):
     # 60 ms of glide at 2.1 m/s: without the young-stance rule (0) a ZUPT stops the strapdown
     # there and cuts the swing in two; with it the swing is one stride of the true length.
+    # This foot never turns and its push reads a SHOE statistic of 5e7, below the stride
+    # gate's swing level (3e8, a foot turning at 1.5 rad/s): it never arms the gate, which
+    # would then open no cycle. The rule is tested without the gate.
     from anfis_elevation_ros.core.zupt import ZuptParams
-    params = NavigatorParams(rate_hz=200.0, zupt=ZuptParams(young_stance_max_nis=max_nis))
+    params = NavigatorParams(rate_hz=200.0, zupt=ZuptParams(young_stance_max_nis=max_nis),
+                             stride_gate=StrideGateParams(enabled=False))
     navigator = FootNavigator(params)
     track, cycles = navigator.run(*glide(0.06))
     truth_m = 2 * 0.5 * 5.0 * 0.3 ** 2 + 1.5 * 0.06                        # 0.51 m

@@ -69,7 +69,8 @@ class StrideGateParams:
 
     Attributes
     ----------
-    enabled : use the gate (else every SHOE stance is a stance and opens a cycle after a swing).
+    enabled : use the gate (else every SHOE stance is a stance and opens a cycle after a swing);
+        on by default since 2026-12-06, when the default models were trained with it.
     relaxed_factor, relaxed_floor : a relaxed stance needs a statistic below
         max(relaxed_factor x gamma, relaxed_floor).
     refractory_fraction : no relaxed stance before this fraction of the stride period has
@@ -89,7 +90,7 @@ class StrideGateParams:
 
     """
 
-    enabled: bool = False
+    enabled: bool = True
     relaxed_factor: float = 3.0
     relaxed_floor: float = 1.0e7
     refractory_fraction: float = 0.7

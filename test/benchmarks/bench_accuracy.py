@@ -57,13 +57,13 @@ def final_height(recording, params=None):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
-    parser.add_argument('--stride-gate', action='store_true',
-                        help='stride_gate.enabled (core/stride_gate.py)')
+    parser.add_argument('--no-stride-gate', action='store_true',
+                        help='stride_gate.enabled false (core/stride_gate.py; on by default)')
     parser.add_argument('--gyro-range-rps', type=float, default=0.0,
                         help='gyro_range_rps (the pyshoe VICON sensor clips near 9.25)')
     parser.add_argument('--no-rail-fill', action='store_true', help='rail.enabled false')
     args = parser.parse_args()
-    params = NavigatorParams(stride_gate=StrideGateParams(enabled=args.stride_gate))
+    params = NavigatorParams(stride_gate=StrideGateParams(enabled=not args.no_stride_gate))
     errors = pyshoe_errors(replace(params, gyro_range_rps=args.gyro_range_rps,
                                    rail=GyroRailParams(enabled=not args.no_rail_fill)))
     print(f'pyshoe VICON, {len(errors)} trials: median {np.median(errors):.3f} m, mean '

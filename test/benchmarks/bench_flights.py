@@ -118,8 +118,8 @@ def main(argv=None) -> int:
     parser.add_argument('--rates', type=float, nargs='+', default=[100.0, 200.0, 400.0],
                         help='IMU rates, Hz')
     parser.add_argument('--details', action='store_true', help='print every flight')
-    parser.add_argument('--stride-gate', action='store_true',
-                        help='with stride_gate.enabled (core/stride_gate.py)')
+    parser.add_argument('--no-stride-gate', action='store_true',
+                        help='stride_gate.enabled false (core/stride_gate.py; on by default)')
     args = parser.parse_args(argv)
 
     print(f'{"walk":9s} {"imu":8s} {"Hz":>4s} {"strides":>7s} {"cycles":>6s} {"false":>5s} '
@@ -132,7 +132,8 @@ def main(argv=None) -> int:
                 start = time.perf_counter()
                 walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed),
                                          rate_hz=rate_hz, imu=preset)
-                params = NavigatorParams(stride_gate=StrideGateParams(enabled=args.stride_gate))
+                params = NavigatorParams(
+                    stride_gate=StrideGateParams(enabled=not args.no_stride_gate))
                 track, cycles = FootNavigator(params).run(
                     walk.stamp_ns, walk.acc_b, walk.gyr_b)
                 result = evaluate(walk, track, cycles)

@@ -81,8 +81,8 @@ def walk_figures(walk, params):
 
 
 def main():
-    # --stride-gate: with stride_gate.enabled (core/stride_gate.py).
-    gate = StrideGateParams(enabled='--stride-gate' in sys.argv)
+    # --no-stride-gate: stride_gate.enabled false (core/stride_gate.py; on by default).
+    gate = StrideGateParams(enabled='--no-stride-gate' not in sys.argv)
     # --no-rail-fill: rail.enabled false (clipped samples add attitude noise only).
     rail = GyroRailParams(enabled='--no-rail-fill' not in sys.argv)
     finals = {name: [] for name in AIDS}
