@@ -46,7 +46,7 @@ Q_NB, VEL_N, POS_N, ACC_BIAS_B, GYR_BIAS_B = (
 N_NOMINAL = 16
 # the navigator's integer state and counters,
 PREV_STAMP_NS, STILL_SAMPLES, MIN_STANCE_SAMPLES, RELEVEL, GAPS, MISSING_SAMPLES, \
-    STANCE_SAMPLES, ZARU_SAMPLES, YOUNG_STANCE_SAMPLES, WAITING_ZUPTS = range(10)
+    STANCE_SAMPLES, ZARU_SAMPLES, YOUNG_STANCE_SAMPLES, WAITING_ZUPTS, RELAXED_STANCES = range(11)
 # and its real-valued state and settings (THRESHOLD_LAW: the arguments of adaptive_threshold).
 THRESHOLD, LAST_NIS, GRAVITY, RATE_HZ, MAX_GAP_S, MAX_DT_S, ZUPT_SIGMA, ADAPTIVE, GYR_RAIL, \
     GYR_RAIL_NOISE, ZARU_MAX_GYR, ZARU_SIGMA, YOUNG_MAX_NIS = range(13)
@@ -122,6 +122,8 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
         counts[WAITING_ZUPTS] += 1
     gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD], still)
     stance = gate & 1 == 1
+    if gate & 4 == 4:
+        counts[RELAXED_STANCES] += 1
     if scalars[ADAPTIVE] != 0.0 and intensity_update(
             peaks, intensity_state, intensity_counts,
             math.sqrt(sensor_gyr_b[0] ** 2 + sensor_gyr_b[1] ** 2 + sensor_gyr_b[2] ** 2)):

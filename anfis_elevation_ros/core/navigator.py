@@ -56,10 +56,10 @@ from .map_frame import MapAlignment, rotate_error_covariance
 from .navigation_step import ACC_BIAS_B, ADAPTIVE, attitude_at_rest, GAPS, GRAVITY, GYR_BIAS_B
 from .navigation_step import GYR_RAIL, GYR_RAIL_NOISE, LAST_NIS, MAX_DT_S, MAX_GAP_S
 from .navigation_step import MIN_STANCE_SAMPLES, MISSING_SAMPLES, N_NOMINAL, navigation_step
-from .navigation_step import POS_N, PREV_STAMP_NS, Q_NB, RATE_HZ, STANCE_SAMPLES, STILL_SAMPLES
-from .navigation_step import THRESHOLD, THRESHOLD_LAW, VEL_N, ZARU_MAX_GYR, ZARU_SAMPLES
-from .navigation_step import WAITING_ZUPTS, YOUNG_MAX_NIS, YOUNG_STANCE_SAMPLES, ZARU_SIGMA
-from .navigation_step import ZUPT_SIGMA
+from .navigation_step import POS_N, PREV_STAMP_NS, Q_NB, RATE_HZ, RELAXED_STANCES
+from .navigation_step import STANCE_SAMPLES, STILL_SAMPLES, THRESHOLD, THRESHOLD_LAW, VEL_N
+from .navigation_step import WAITING_ZUPTS, YOUNG_MAX_NIS, YOUNG_STANCE_SAMPLES, ZARU_MAX_GYR
+from .navigation_step import ZARU_SAMPLES, ZARU_SIGMA, ZUPT_SIGMA
 from .stride_gate import initial_state, samples_to_relaxed_stance, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .validation import check_range
@@ -152,6 +152,7 @@ class NavigatorStatus:
     stance_samples: int = 0
     zaru_samples: int = 0
     waiting_zupts: int = 0         # young stance samples whose implausible ZUPT waited
+    relaxed_stances: int = 0       # stances the stride gate found where SHOE saw none
     gaps: int = 0
     missing_samples: int = 0
     cycles: int = 0
@@ -246,7 +247,7 @@ class FootNavigator:
             p.heading.zaru_max_gyr_rps if p.heading.zaru_enabled else 0.0,
             p.heading.zaru_sigma_rps, p.zupt.young_stance_max_nis)
         self._scalars[THRESHOLD] = self._current_threshold()
-        self._counts = np.zeros(WAITING_ZUPTS + 1, dtype=np.int64)
+        self._counts = np.zeros(RELAXED_STANCES + 1, dtype=np.int64)
         self._counts[MIN_STANCE_SAMPLES] = p.zupt.min_stance_samples(rate_hz)
         self._counts[YOUNG_STANCE_SAMPLES] = p.zupt.young_stance_samples(rate_hz)
         init_samples = int(round(p.init_stance_s * rate_hz))
@@ -502,6 +503,7 @@ class FootNavigator:
             status.stance_samples = int(counts[STANCE_SAMPLES])
             status.zaru_samples = int(counts[ZARU_SAMPLES])
             status.waiting_zupts = int(counts[WAITING_ZUPTS])
+            status.relaxed_stances = int(counts[RELAXED_STANCES])
             status.last_nis = float(self._scalars[LAST_NIS])
         if self._rail is not None:
             status.rail_filled_samples = self._rail.filled_samples
