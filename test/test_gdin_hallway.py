@@ -20,18 +20,10 @@ the Earth's field in tesla; the truth's size checked against ``numberOfStrides``
 """
 
 from anfis_elevation_ros.core.errors import InputError
-from anfis_elevation_ros.tools import datasets
 from anfis_elevation_ros.tools.gdin_hallway import load_gdin_walk
+from gdin_support import gdin_files
 import numpy as np
 import pytest
-
-
-def gdin_files():
-    """Return the walks' CSV files, or skip the test when the folder is absent."""
-    try:
-        return datasets.dataset_files('gdin_hallway')
-    except InputError as err:
-        pytest.skip(f'gdin_hallway not in the shared data: {err}')
 
 
 def quietest_window(gyr_b, n=40):

@@ -26,8 +26,8 @@ from anfis_elevation_ros.core.heading_aids import hde_directions_deg, HeadingAid
 from anfis_elevation_ros.core.heading_aids import HeadingAidParams
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.stride_gate import StrideGateParams
-from anfis_elevation_ros.tools import datasets
-from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_walk
+from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS
+from gdin_support import gdin_walk
 import numpy as np
 import pytest
 
@@ -107,15 +107,6 @@ def final_error_m(walk, params):
     angle = math.atan2(np.sum(e[:, 0] * t[:, 1] - e[:, 1] * t[:, 0]), np.sum(e * t))
     c, s = math.cos(angle), math.sin(angle)
     return float(np.linalg.norm(est[-1] @ np.array([[c, s], [-s, c]]) - truth[-1]))
-
-
-def gdin_walk(number):
-    """Return one gdin_hallway walk, or skip when the shared data lacks it."""
-    try:
-        files = datasets.dataset_files('gdin_hallway')
-        return load_gdin_walk([p for p in files if p.stem.endswith(f'_{number}')][0])
-    except (InputError, IndexError) as err:
-        pytest.skip(f'gdin_hallway walk {number} not in the shared data: {err}')
 
 
 def test_clipped_gyro_noise_grows_only_the_attitude():

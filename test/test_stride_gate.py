@@ -21,8 +21,8 @@ from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.stride_gate import (
     initial_state, PERIOD_S, samples_to_relaxed_stance, stride_gate_update, StrideGateParams)
 from anfis_elevation_ros.sim import Segment, simulate_walk
-from anfis_elevation_ros.tools import datasets
-from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_walk
+from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS
+from gdin_support import gdin_walk
 import numpy as np
 import pytest
 
@@ -200,11 +200,7 @@ def test_navigator_with_the_gate_finds_every_simulated_stride_and_live_equals_ba
 def test_the_gate_finds_the_strides_shoe_merges_on_a_real_brisk_walk_and_counts_them():
     # gdin walk 32 (80 m of corridors, 61 strides): measured 59 cycles without the gate (two
     # stances never still enough for SHOE), 61 with it, the relaxed stances counted.
-    try:
-        path = [p for p in datasets.dataset_files('gdin_hallway') if p.stem.endswith('_32')][0]
-    except (InputError, IndexError) as err:
-        pytest.skip(f'gdin_hallway walk 32 not in the shared data: {err}')
-    walk = load_gdin_walk(path)
+    walk = gdin_walk(32)
     recording = walk.recording
     counts = {}
     for enabled in (False, True):
