@@ -19,8 +19,9 @@ from functools import partial
 from anfis_elevation_ros.core.riser_height import allowed_riser_counts, height_checked_mode
 from anfis_elevation_ros.core.riser_height import K_GRID_M, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
-from anfis_elevation_ros.core.riser_height import StairwellRiserHeights, stride_log_likelihood
+from anfis_elevation_ros.core.riser_height import stride_log_likelihood
 from anfis_elevation_ros.core.stair_steps import flight_riser_count
+from anfis_elevation_ros.core.stairwells import StairwellRiserHeights
 import numpy as np
 import pytest
 

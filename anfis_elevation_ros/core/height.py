@@ -73,9 +73,9 @@ from .gait import FEATURE_NAMES
 from .level_strides import LevelSlope
 from .riser_height import height_checked_mode, known_riser_height_m, MAX_RISERS
 from .riser_height import PRIOR_SIGMA_M, riser_count_bounds
-from .riser_height import StairwellRiserHeights
 from .stair_steps import bridged_step_count, flight_riser_count, MODE_DOWN, MODE_LEVEL, MODE_UP
 from .stair_steps import quantised_height_step, quantised_step_count, stair_mode
+from .stairwells import StairwellRiserHeights
 from .validation import check_finite, check_range
 
 __all__ = ['bridged_step_count', 'CycleEstimate', 'ElevationParams', 'ElevationTracker',

@@ -1,0 +1,262 @@
+# Copyright 2026 The anfis_elevation_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Which stairwell a flight is in: one riser height estimate per stairwell.
+
+Successive flights of one stairwell share K (their strides sharpen one estimate,
+``core/riser_height.py``); another staircase may have another K. Each flight joins the
+stairwell, among those near where it starts, whose posterior explains its strides best, or
+starts a new one (:func:`stairwell_evidence`); a flight back down the stairs just climbed joins
+them whatever its strides say.
+
+Public API: :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
+:data:`SAME_STAIRS_M`, :data:`SAME_LEVEL_M`, :data:`DRIFT_FRACTION`.
+"""
+
+import math
+from typing import Callable, Optional
+
+import numpy as np
+
+from .level_strides import STRIDE_SIGMA_M
+from .riser_height import allowed_riser_counts, K_GRID_M, log_sum_exp, PRIOR_SIGMA_M
+from .riser_height import RiserHeightEstimator, stride_log_likelihood
+
+SAME_STAIRS_M = 3.0
+"""A flight starting this close (m) to where a stairwell's last flight ended is in it."""
+
+SAME_LEVEL_M = 0.5
+"""... and at a height this close (m) to that flight's end: not a storey above or below.
+
+Less than half the shortest flight (6 risers of 0.14 m), more than the height error allowed.
+"""
+
+DRIFT_FRACTION = 0.1
+"""Most horizontal drift of the track, a fraction of the distance walked.
+
+A plain ZUPT filter drifts 1-8 % of the distance on gdin_hallway; the simulated consumer IMU
+sometimes more (README). Used by :meth:`StairwellRiserHeights._could_be_in`.
+"""
+
+
+class StairwellRiserHeights:
+    """
+    One :class:`RiserHeightEstimator` per stairwell, a flight's stairwell chosen by its strides.
+
+    Successive flights of one stairwell share K (their strides sharpen one estimate); another
+    staircase may have another K. Which stairwell a flight is in is not known (no stair
+    database here, and the INS position drifts), so each flight goes to the stairwell whose
+    riser height best explains its strides so far, or to a new one, by Bayesian evidence
+    (:func:`stairwell_evidence`): a stairwell of another K, or a flight of one stair too many,
+    is told apart after a stride or two. Only the stairwells one of whose flights started or
+    ended near where this one starts compete: within :data:`SAME_STAIRS_M` plus
+    :data:`DRIFT_FRACTION` of the distance walked since (the track drifts): two stairs a few
+    millimetres of riser apart, which strides alone cannot tell apart (random walk 176: 0.156
+    and 0.1515 m, 12 m apart), stay two when the wearer goes from one to the other. A flight
+    back the other way that starts within :data:`SAME_STAIRS_M` of where a stairwell's last
+    flight ended, and within :data:`SAME_LEVEL_M` of its end height (a turn back down the same
+    stairs, not the next storey's stairs under them), is in that stairwell whatever its
+    strides say: over a few metres the track does not drift, and strides up and down the same
+    stairs can differ by 10 % (an IMU's cross-axis errors). Each
+    stairwell keeps how to count the risers of each of its finished flights, so that the
+    height they add is K_w N_w(K_w) with the latest K_w: a later flight that moves K_w
+    (strides of one riser settling what strides of four, read as three, left open) counts
+    the earlier flights again, stride by stride, at the new K_w.
+
+    Parameters
+    ----------
+    prior_m, known_m, prior_sigma_m
+        As :class:`RiserHeightEstimator`, for every stairwell.
+
+    """
+
+    def __init__(self, prior_m: float, known_m: Optional[float] = None,
+                 prior_sigma_m: float = PRIOR_SIGMA_M):
+        self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
+        # [estimator, riser counters of its finished flights, (x, y) where its last flight ended,
+        #  that flight's direction, the height it ended at, (x, y, distance walked) of the
+        #  starts and ends of its flights]
+        self._wells = []
+        self._risers_at = {}        # (stairwell, K) -> N_w(K): K moves only during a flight
+        self._flight_log_likelihood = None
+        self._flight_strides = 0
+        self._flight_start_xy = self._flight_end_xy = None
+        self._flight_direction = 0
+        self._flight_start_height_m = None
+        self._index = None          # stairwell of the open (or last) flight; None: a new one
+
+    def start_flight(self, start_xy: Optional[tuple] = None, direction: int = 0,
+                     start_height_m: Optional[float] = None, walked_m: float = 0.0):
+        """
+        Open a flight (+1 up, -1 down) at (x, y) and height, m, after ``walked_m`` of walking.
+
+        Its strides are its own until it ends.
+        """
+        self._flight_log_likelihood = np.zeros(len(K_GRID_M))
+        self._flight_strides = 0
+        self._flight_start_xy = self._flight_end_xy = start_xy
+        self._flight_direction = int(direction)
+        self._flight_start_height_m = start_height_m
+        self._flight_start_walked_m = self._flight_end_walked_m = float(walked_m)
+        self._index = None
+
+    def add(self, dh_m: float, length_m: Optional[float] = None,
+            end_xy: Optional[tuple] = None, sigma_m: float = STRIDE_SIGMA_M,
+            from_level: bool = False, walked_m: float = 0.0) -> float:
+        """
+        Add a stride (ending at (x, y), m, after ``walked_m``) to the open flight; return K, m.
+
+        ``sigma_m`` is the stride's height noise (``level_strides.stride_noise_sigma``);
+        ``from_level`` says it is the flight's first (:func:`allowed_riser_counts`).
+        """
+        if not math.isfinite(dh_m):
+            raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
+        if self._flight_log_likelihood is None:
+            self.start_flight()
+        self._flight_log_likelihood += stride_log_likelihood(
+            dh_m, K_GRID_M, allowed_riser_counts(length_m, from_level), sigma_m)
+        self._flight_strides += 1
+        self._flight_end_xy = end_xy
+        self._flight_end_walked_m = float(walked_m)
+        same_stairs = self._stairwell_ending_near(self._flight_start_xy)
+        if same_stairs is not None:
+            self._index = same_stairs
+        elif self._template.estimating:
+            evidence = [stairwell_evidence(well[0].log_posterior(), self._flight_log_likelihood)
+                        if self._could_be_in(well) else -math.inf for well in self._wells]
+            new = stairwell_evidence(self._template.log_posterior(),
+                                     self._flight_log_likelihood)
+            best = int(np.argmax(evidence)) if evidence else None
+            self._index = best if best is not None and evidence[best] >= new else None
+        else:
+            self._index = 0 if self._wells else None
+        return self.estimate_m
+
+    def end_flight(self, risers: Callable[[float], int], end_height_m: Optional[float] = None):
+        """
+        Close the open flight (ending at a height, m): its strides and risers join its well.
+
+        ``risers(K)`` is the flight's signed riser count at riser height K: when a later
+        flight moves its stairwell's K, the flight is counted again with it.
+        """
+        if self._flight_log_likelihood is None or not self._flight_strides:
+            self._flight_log_likelihood = None
+            return
+        if self._index is None:
+            first = self._template
+            self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
+                                                     first.prior_sigma_m), [], None, 0, None, []])
+            self._index = len(self._wells) - 1
+        well = self._wells[self._index]
+        well[0].commit(self._flight_log_likelihood, self._flight_strides)
+        well[1].append(risers)
+        self._risers_at.clear()
+        well[2] = self._flight_end_xy
+        well[3] = self._flight_direction
+        well[4] = end_height_m
+        well[5].extend((*xy, walked_m) for xy, walked_m in (
+            (self._flight_start_xy, self._flight_start_walked_m),
+            (self._flight_end_xy, self._flight_end_walked_m)) if xy is not None)
+        self._flight_log_likelihood = None
+
+    def _stairwell_ending_near(self, xy: Optional[tuple]) -> Optional[int]:
+        """Return the stairwell whose last flight, the other way, ended near (x, y) and height."""
+        if xy is None or not self._flight_direction:
+            return None
+        start_m = self._flight_start_height_m
+        for k, (_, _, end_xy, direction, end_m, _) in enumerate(self._wells):
+            if end_xy is not None and direction == -self._flight_direction and math.hypot(
+                    xy[0] - end_xy[0], xy[1] - end_xy[1]) <= SAME_STAIRS_M and (
+                    start_m is None or end_m is None or abs(start_m - end_m) <= SAME_LEVEL_M):
+                return k
+        return None
+
+    def _could_be_in(self, well) -> bool:
+        """
+        Return whether the open flight starts near where one of the stairwell's flights did.
+
+        |p - p_j| <= SAME_STAIRS_M + DRIFT_FRACTION (s - s_j) for a start or end p_j of one of
+        its flights, s the distance walked (a resumed stairwell, or no position: yes).
+        """
+        xy, walked_m = self._flight_start_xy, self._flight_start_walked_m
+        return xy is None or not well[5] or any(
+            math.hypot(xy[0] - x, xy[1] - y) <= SAME_STAIRS_M + DRIFT_FRACTION * abs(
+                walked_m - then_m) for x, y, then_m in well[5])
+
+    def _open_flight(self):
+        return self._flight_log_likelihood if self._flight_strides else None
+
+    @property
+    def estimate_m(self) -> float:
+        """Return the riser height of the open (else the last) flight's stairwell, m."""
+        estimator = self._template if self._index is None else self._wells[self._index][0]
+        return estimator.estimate_with(self._open_flight())
+
+    @property
+    def climbed_m(self) -> float:
+        """Return the height of the finished flights, sum_w K_w N_w(K_w), m."""
+        total = 0.0
+        for k, (estimator, flights, *_) in enumerate(self._wells):
+            more = self._open_flight() if k == self._index else None
+            k_m = estimator.estimate_with(more)
+            if (k, k_m) not in self._risers_at:
+                self._risers_at[k, k_m] = sum(risers(k_m) for risers in flights)
+            total += k_m * self._risers_at[k, k_m]
+        return total
+
+    def forget_climbs(self):
+        """Forget the finished flights (their height is in the caller's base: a new K, a floor)."""
+        for well in self._wells:
+            well[1] = []
+        self._risers_at.clear()
+
+    def resume(self, estimate_m: float, strides: int):
+        """Carry on from a saved estimate (a restart): one stairwell that has it."""
+        estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
+                                         self._template.prior_sigma_m)
+        estimator.resume(estimate_m, strides)
+        self._wells = [[estimator, [], None, 0, None, []]]
+        self._risers_at.clear()
+        self._index = 0
+
+    def set_prior(self, prior_m: float, sigma_m: float):
+        """Move every stairwell's prior (a live parameter change); strides are kept."""
+        for estimator in [self._template] + [well[0] for well in self._wells]:
+            estimator.set_prior(prior_m, sigma_m)
+
+    @property
+    def strides(self) -> int:
+        """Return the stair strides behind the current estimate."""
+        estimator = self._template if self._index is None else self._wells[self._index][0]
+        return estimator.strides + self._flight_strides * (self._open_flight() is not None)
+
+    @property
+    def estimating(self) -> bool:
+        """Return whether K is estimated (not the file's, not taken as known)."""
+        return self._template.estimating
+
+    @property
+    def stairwells(self) -> int:
+        """Return the number of stairwells told apart so far."""
+        return len(self._wells)
+
+
+def stairwell_evidence(log_posterior: np.ndarray, flight_log_likelihood: np.ndarray) -> float:
+    """
+    Log evidence of a flight's strides for a stairwell (or a new one, with the prior).
+
+    log p(dh_flight | w) = log sum_K p(K | w) p(dh_flight | K)
+    """
+    return log_sum_exp(log_posterior + flight_log_likelihood)
