@@ -515,27 +515,24 @@ def test_the_slope_learnt_on_level_strides_corrects_stair_strides():
     assert walker.tracker.slope.slope == pytest.approx(slope)
 
 
-@pytest.mark.parametrize('level_noise_m, to_and_fro, expected_wells', [
-    (0.001, True, 2), (0.015, True, 1), (0.015, False, 2)])
+@pytest.mark.parametrize('level_noise_m, expected_wells', [(0.001, 2), (0.015, 1)])
 def test_stairs_6_mm_apart_are_told_apart_on_a_sensor_whose_level_strides_say_it_can(
-        level_noise_m, to_and_fro, expected_wells):
+        level_noise_m, expected_wells):
     """
     Tell two storeys' stairs, risers 0.149 and 0.155 m, apart (random walk 116).
 
     The level strides' scatter sets the stride noise (at most the default 10 mm): 1 mm of
-    scatter tells the stairs apart, 15 mm does not, when the level strides walk to and fro and
-    the second flight starts where the first ended. Walking straight on, 17 m of corridor
-    between them, the second stairs are too far from the first for the drift: two stairwells.
+    scatter tells the stairs apart, 15 mm does not.
     """
     walker = _walker(ElevationParams(step_height_m=0.17), seed=2)
     for k_m in (0.149, 0.155):
-        for i in range(12):
-            walker.stride(0, length_m=1.4 * (-1) ** (i * to_and_fro), noise_m=level_noise_m)
+        for _ in range(12):
+            walker.stride(0, noise_m=level_noise_m)
         for _ in range(16):
             walker.stride(1, 1, k_m, noise_m=0.001)
     walker.stride(0, noise_m=level_noise_m)
     assert walker.tracker.risers.stairwells == expected_wells
-    if level_noise_m < 0.01:
+    if expected_wells == 2:
         assert walker.tracker.height_m == pytest.approx(walker.true_height_m, abs=0.005)
 
 

@@ -200,27 +200,6 @@ def test_flights_of_one_riser_height_share_a_stairwell_another_gets_its_own():
     assert wells.climbed_m == 0.0
 
 
-@pytest.mark.parametrize('walked_between_m, expected_wells', [(20.0, 2), (200.0, 1)])
-def test_stairs_too_far_apart_for_the_drift_are_two_stairwells(walked_between_m,
-                                                               expected_wells):
-    """Random walk 176: two storeys' stairs of 0.156 and 0.1515 m risers, 12 m apart."""
-    wells = StairwellRiserHeights(0.17)
-    rng = np.random.default_rng(3)
-    walked_m = 0.0
-    for k_m, start_x in ((0.156, 0.0), (0.1515, 12.0)):
-        wells.start_flight((start_x, 0.0), 1, None, walked_m)
-        for dh, length in zip(*flight(k_m, [2] * 8, rng, noise_m=0.002)):
-            walked_m += length
-            wells.add(dh, length, (start_x, walked_m), walked_m=walked_m)
-        wells.end_flight(counted(16))
-        walked_m += walked_between_m
-    # 12 m after 20 m of walking is another stairwell; after 200 m, 12 m is within the drift
-    # and the strides, 3 % apart, cannot tell them apart (the sigma of 10 mm).
-    assert wells.stairwells == expected_wells
-    if expected_wells == 2:
-        assert wells.climbed_m == pytest.approx(16 * (0.156 + 0.1515), abs=0.016)
-
-
 def test_a_resumed_estimate_is_a_narrow_prior():
     estimator = RiserHeightEstimator(0.17)
     estimator.resume(0.152, 20)

@@ -261,7 +261,6 @@ class ElevationTracker:
         self._last_xy = None
         self._last_level = None     # (dh_m, length_m, start_xy, end_xy) of a level cycle before
         self._lost = 0
-        self._walked_m = 0.0        # the strides' lengths summed: the track's drift grows with it
         self.risers = StairwellRiserHeights(params.step_height_m, known_riser_height_m(
             self.building), params.step_height_sigma_m)
         self.slope = LevelSlope()
@@ -431,14 +430,12 @@ class ElevationTracker:
         self.level_calls_overruled += mode == MODE_LEVEL and checked != MODE_LEVEL
         mode = checked
         start_xy, self._last_xy = self._last_xy, (x_m, y_m)
-        self._walked_m += length_m or 0.0
         bridged = self._bridge(mode)
         missed = self._missed_first_stride(mode, (x_m, y_m), self.slope.corrected(dh_m, length_m))
         if mode != self._flight_mode:
             self._end_flight(mode)
             if mode != MODE_LEVEL:
-                self.risers.start_flight(missed[2] if missed else start_xy, mode, self.height_m,
-                                         self._walked_m)
+                self.risers.start_flight(missed[2] if missed else start_xy, mode, self.height_m)
                 if missed:
                     self._add_stair_stride(*missed[:2], missed[3])
                     self.recovered_strides += 1
@@ -493,8 +490,7 @@ class ElevationTracker:
             if riser_count_bounds(length_m)[1] <= MAX_RISERS:   # fits stairs: correct the slope
                 dh_m = self.slope.corrected(dh_m, length_m)
             bounds = riser_count_bounds(length_m, from_level)
-        self.risers.add(dh_m, length_m, end_xy, self.slope.stride_sigma_m, from_level,
-                        self._walked_m)
+        self.risers.add(dh_m, length_m, end_xy, self.slope.stride_sigma_m, from_level)
         self._flight_abs_dh_m.append(abs(dh_m))
         self._flight_cycles.append(1)
         self._flight_bounds.append(bounds)

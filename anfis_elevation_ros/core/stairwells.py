@@ -17,12 +17,12 @@ Which stairwell a flight is in: one riser height estimate per stairwell.
 
 Successive flights of one stairwell share K (their strides sharpen one estimate,
 ``core/riser_height.py``); another staircase may have another K. Each flight joins the
-stairwell, among those near where it starts, whose posterior explains its strides best, or
-starts a new one (:func:`stairwell_evidence`); a flight back down the stairs just climbed joins
-them whatever its strides say.
+stairwell whose posterior explains its strides best, or starts a new one
+(:func:`stairwell_evidence`); a flight back down the stairs just climbed joins them whatever
+its strides say.
 
 Public API: :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
-:data:`SAME_STAIRS_M`, :data:`SAME_LEVEL_M`, :data:`DRIFT_FRACTION`.
+:data:`SAME_STAIRS_M`, :data:`SAME_LEVEL_M`.
 """
 
 import math
@@ -43,13 +43,6 @@ SAME_LEVEL_M = 0.5
 Less than half the shortest flight (6 risers of 0.14 m), more than the height error allowed.
 """
 
-DRIFT_FRACTION = 0.1
-"""Most horizontal drift of the track, a fraction of the distance walked.
-
-A plain ZUPT filter drifts 1-8 % of the distance on gdin_hallway; the simulated consumer IMU
-sometimes more (README). Used by :meth:`StairwellRiserHeights._could_be_in`.
-"""
-
 
 class StairwellRiserHeights:
     """
@@ -60,16 +53,12 @@ class StairwellRiserHeights:
     database here, and the INS position drifts), so each flight goes to the stairwell whose
     riser height best explains its strides so far, or to a new one, by Bayesian evidence
     (:func:`stairwell_evidence`): a stairwell of another K, or a flight of one stair too many,
-    is told apart after a stride or two. Only the stairwells one of whose flights started or
-    ended near where this one starts compete: within :data:`SAME_STAIRS_M` plus
-    :data:`DRIFT_FRACTION` of the distance walked since (the track drifts): two stairs a few
-    millimetres of riser apart, which strides alone cannot tell apart (random walk 176: 0.156
-    and 0.1515 m, 12 m apart), stay two when the wearer goes from one to the other. A flight
-    back the other way that starts within :data:`SAME_STAIRS_M` of where a stairwell's last
-    flight ended, and within :data:`SAME_LEVEL_M` of its end height (a turn back down the same
-    stairs, not the next storey's stairs under them), is in that stairwell whatever its
-    strides say: over a few metres the track does not drift, and strides up and down the same
-    stairs can differ by 10 % (an IMU's cross-axis errors). Each
+    is told apart after a stride or two. A flight back the other way that starts within
+    :data:`SAME_STAIRS_M` of where a stairwell's last flight ended, and within
+    :data:`SAME_LEVEL_M` of its end height (a turn back down the same stairs, not the next
+    storey's stairs under them), is in that stairwell whatever its strides say: over a few
+    metres the track does not drift, and strides up and down the same stairs can differ by
+    10 % (an IMU's cross-axis errors). Each
     stairwell keeps how to count the risers of each of its finished flights, so that the
     height they add is K_w N_w(K_w) with the latest K_w: a later flight that moves K_w
     (strides of one riser settling what strides of four, read as three, left open) counts
@@ -86,8 +75,7 @@ class StairwellRiserHeights:
                  prior_sigma_m: float = PRIOR_SIGMA_M):
         self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
         # [estimator, riser counters of its finished flights, (x, y) where its last flight ended,
-        #  that flight's direction, the height it ended at, (x, y, distance walked) of the
-        #  starts and ends of its flights]
+        #  that flight's direction, the height it ended at]
         self._wells = []
         self._risers_at = {}        # (stairwell, K) -> N_w(K): K moves only during a flight
         self._flight_log_likelihood = None
@@ -98,9 +86,9 @@ class StairwellRiserHeights:
         self._index = None          # stairwell of the open (or last) flight; None: a new one
 
     def start_flight(self, start_xy: Optional[tuple] = None, direction: int = 0,
-                     start_height_m: Optional[float] = None, walked_m: float = 0.0):
+                     start_height_m: Optional[float] = None):
         """
-        Open a flight (+1 up, -1 down) at (x, y) and height, m, after ``walked_m`` of walking.
+        Open a flight (+1 up, -1 down) at (x, y) and height, m.
 
         Its strides are its own until it ends.
         """
@@ -109,14 +97,13 @@ class StairwellRiserHeights:
         self._flight_start_xy = self._flight_end_xy = start_xy
         self._flight_direction = int(direction)
         self._flight_start_height_m = start_height_m
-        self._flight_start_walked_m = self._flight_end_walked_m = float(walked_m)
         self._index = None
 
     def add(self, dh_m: float, length_m: Optional[float] = None,
             end_xy: Optional[tuple] = None, sigma_m: float = STRIDE_SIGMA_M,
-            from_level: bool = False, walked_m: float = 0.0) -> float:
+            from_level: bool = False) -> float:
         """
-        Add a stride (ending at (x, y), m, after ``walked_m``) to the open flight; return K, m.
+        Add a stride (ending at (x, y), m) to the open flight; return the estimate, m.
 
         ``sigma_m`` is the stride's height noise (``level_strides.stride_noise_sigma``);
         ``from_level`` says it is the flight's first (:func:`allowed_riser_counts`).
@@ -129,13 +116,12 @@ class StairwellRiserHeights:
             dh_m, K_GRID_M, allowed_riser_counts(length_m, from_level), sigma_m)
         self._flight_strides += 1
         self._flight_end_xy = end_xy
-        self._flight_end_walked_m = float(walked_m)
         same_stairs = self._stairwell_ending_near(self._flight_start_xy)
         if same_stairs is not None:
             self._index = same_stairs
         elif self._template.estimating:
             evidence = [stairwell_evidence(well[0].log_posterior(), self._flight_log_likelihood)
-                        if self._could_be_in(well) else -math.inf for well in self._wells]
+                        for well in self._wells]
             new = stairwell_evidence(self._template.log_posterior(),
                                      self._flight_log_likelihood)
             best = int(np.argmax(evidence)) if evidence else None
@@ -157,7 +143,7 @@ class StairwellRiserHeights:
         if self._index is None:
             first = self._template
             self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
-                                                     first.prior_sigma_m), [], None, 0, None, []])
+                                                     first.prior_sigma_m), [], None, 0, None])
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well[0].commit(self._flight_log_likelihood, self._flight_strides)
@@ -166,9 +152,6 @@ class StairwellRiserHeights:
         well[2] = self._flight_end_xy
         well[3] = self._flight_direction
         well[4] = end_height_m
-        well[5].extend((*xy, walked_m) for xy, walked_m in (
-            (self._flight_start_xy, self._flight_start_walked_m),
-            (self._flight_end_xy, self._flight_end_walked_m)) if xy is not None)
         self._flight_log_likelihood = None
 
     def _stairwell_ending_near(self, xy: Optional[tuple]) -> Optional[int]:
@@ -176,24 +159,12 @@ class StairwellRiserHeights:
         if xy is None or not self._flight_direction:
             return None
         start_m = self._flight_start_height_m
-        for k, (_, _, end_xy, direction, end_m, _) in enumerate(self._wells):
+        for k, (_, _, end_xy, direction, end_m) in enumerate(self._wells):
             if end_xy is not None and direction == -self._flight_direction and math.hypot(
                     xy[0] - end_xy[0], xy[1] - end_xy[1]) <= SAME_STAIRS_M and (
                     start_m is None or end_m is None or abs(start_m - end_m) <= SAME_LEVEL_M):
                 return k
         return None
-
-    def _could_be_in(self, well) -> bool:
-        """
-        Return whether the open flight starts near where one of the stairwell's flights did.
-
-        |p - p_j| <= SAME_STAIRS_M + DRIFT_FRACTION (s - s_j) for a start or end p_j of one of
-        its flights, s the distance walked (a resumed stairwell, or no position: yes).
-        """
-        xy, walked_m = self._flight_start_xy, self._flight_start_walked_m
-        return xy is None or not well[5] or any(
-            math.hypot(xy[0] - x, xy[1] - y) <= SAME_STAIRS_M + DRIFT_FRACTION * abs(
-                walked_m - then_m) for x, y, then_m in well[5])
 
     def _open_flight(self):
         return self._flight_log_likelihood if self._flight_strides else None
@@ -227,7 +198,7 @@ class StairwellRiserHeights:
         estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
                                          self._template.prior_sigma_m)
         estimator.resume(estimate_m, strides)
-        self._wells = [[estimator, [], None, 0, None, []]]
+        self._wells = [[estimator, [], None, 0, None]]
         self._risers_at.clear()
         self._index = 0
 
