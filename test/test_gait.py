@@ -49,16 +49,13 @@ def test_pitch_is_relative_to_stance_so_a_tilted_mount_does_not_bias_it():
     assert max_relative_pitch(swing_up_b, stance_up_b, forward_b) == pytest.approx(0.35)
 
 
-def run_segmenter(heights, stance, params=GaitParams(), gaps=None, splits=None):
-    """Cycles of a track; ``splits`` maps a sample to the age of a late stance found there."""
+def run_segmenter(heights, stance, params=GaitParams(), gaps=None):
     segmenter = GaitSegmenter(params, RATE_HZ, MountingEstimator(params, np.eye(3)))
     cycles = []
     for k, (h, still) in enumerate(zip(heights, stance)):
         cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
                                  np.array([0.0, 0.0, 9.81]), np.zeros(3), np.zeros(3),
                                  gap=bool(gaps is not None and gaps[k]))
-        if splits and k in splits:
-            cycle = segmenter.split(splits[k])
         if cycle is not None:
             cycles.append(cycle)
     return cycles
@@ -80,46 +77,6 @@ def test_a_stride_makes_one_cycle_closed_by_its_first_stance_sample():
     assert cycle.valid and cycle.height_change_m == pytest.approx(0.17)
     assert cycle.features[3] == pytest.approx(0.17)
     assert np.allclose(cycle.pos_n, [0.7, 0.0, 0.17])
-
-
-def test_a_late_stance_splits_the_cycle_at_its_sample_and_the_next_starts_there():
-    # Two strides up with no stance between them (samples 20-69 and 70-119); the late stance
-    # at sample 69 is found at sample 99 (30 samples later).
-    first, second = 0.17 * np.sin(np.linspace(0, np.pi / 2, 50)), np.linspace(0.18, 0.34, 50)
-    heights = np.concatenate([np.zeros(20), first, second, np.full(20, 0.34)])
-    stance = np.concatenate([np.ones(20), np.zeros(100), np.ones(20)]).astype(bool)
-    cycles = run_segmenter(heights, stance, splits={99: 30})
-    assert [c.stamp_ns for c in cycles] == [69 * 10_000_000, 120 * 10_000_000]
-    assert [c.start_stamp_ns for c in cycles] == [19 * 10_000_000, 69 * 10_000_000]
-    assert [c.height_change_m for c in cycles] == pytest.approx([0.17, 0.17])
-    assert cycles[1].features[3] == pytest.approx(0.17)     # max |h| from the late stance
-    assert np.allclose(cycles[0].pos_n, [0.69, 0.0, 0.17])
-    assert all(c.valid for c in cycles)
-
-
-def test_the_late_stance_zupt_is_carried_back_to_the_samples_since_the_late_stance():
-    # The ZUPT at sample 99 moved the position by dpos and the velocity by dvel; sample j,
-    # t seconds before 99, by dpos - dvel t: sample 69 (0.3 s before) by 0.01 - 0.006 m up.
-    first, second = 0.17 * np.sin(np.linspace(0, np.pi / 2, 50)), np.linspace(0.18, 0.34, 50)
-    heights = np.concatenate([np.zeros(20), first, second, np.full(20, 0.34)])
-    stance = np.concatenate([np.ones(20), np.zeros(100), np.ones(20)]).astype(bool)
-    segmenter = GaitSegmenter(GaitParams(), RATE_HZ, MountingEstimator(GaitParams(), np.eye(3)))
-    cycles = []
-    for k, (h, still) in enumerate(zip(heights, stance)):
-        cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
-                                 np.zeros(3), np.zeros(3), np.zeros(3))
-        if k == 99:
-            cycle = segmenter.split(30, np.array([0.0, 0.0, 0.01]), np.array([0.0, 0.0, 0.02]))
-        if cycle is not None:
-            cycles.append(cycle)
-    assert [c.height_change_m for c in cycles] == pytest.approx([0.174, 0.34 - 0.174])
-    assert cycles[0].pos_n[2] == pytest.approx(0.174)
-
-
-def test_a_late_stance_outside_a_swing_or_the_held_samples_cuts_nothing():
-    heights, stance = step_up(50, 0.17)
-    assert len(run_segmenter(heights, stance, splits={10: 2})) == 1        # in the stand
-    assert len(run_segmenter(heights, stance, splits={30: 20})) == 1       # before the swing
 
 
 def test_short_swings_are_no_cycle_and_long_ones_are_invalid():

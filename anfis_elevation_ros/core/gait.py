@@ -238,7 +238,6 @@ class GaitSegmenter:
         self._heights = []
         self._up_b = []
         self._motion = []
-        self._track = []            # (stamp_ns, pos_n, C_nb) of each swing sample
         self._gap = False
 
     def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
@@ -274,55 +273,17 @@ class GaitSegmenter:
             self._heights.clear()
             self._up_b.clear()
             self._motion.clear()
-            self._track.clear()
             self._gap = False
         self._gap = self._gap or gap
         if len(self._heights) < self._max_samples:
             self._heights.append(pos_n[2] - self._stance_pos_n[2])
             self._up_b.append(C_nb[2, :])
             self._motion.append(np.concatenate((acc_b, gyr_b, vel_n)))
-            self._track.append((stamp_ns, pos_n, C_nb))
         if not stance:
             return None
         self._in_swing = False
         cycle = self._close(stamp_ns, pos_n)
         self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
-        return cycle
-
-    def split(self, age: int, dpos_n=np.zeros(3), dvel_n=np.zeros(3)):
-        """
-        Close the cycle at the swing sample ``age`` samples before the last one (a late stance).
-
-        The stride gate found the stance after the fact (``core/stride_gate.py``): the samples
-        up to it make the cycle it closes, the ones after it begin the next swing, their
-        heights measured from it. The late stance's ZUPT, applied at the last sample, corrected
-        the position by ``dpos_n`` and the velocity by ``dvel_n``; with the velocity error
-        constant since the late stance, sample j's position is corrected by
-        dpos_n - dvel_n (t_last - t_j) and its velocity by dvel_n (the last sample's are
-        already). Returns the GaitCycle, or None (no swing, a swing too long to hold its
-        samples, or one too short to be a stride).
-        """
-        end = len(self._track) - 1 - int(age)
-        if not self._in_swing or end < 0 or len(self._track) >= self._max_samples:
-            return None
-        last_ns = self._track[-1][0]
-        for j in range(end, len(self._track) - 1):
-            stamp_ns, pos_n, C_nb = self._track[j]
-            correction = dpos_n - dvel_n * ((last_ns - stamp_ns) * 1e-9)
-            self._track[j] = (stamp_ns, pos_n + correction, C_nb)
-            self._heights[j] += correction[2]
-            self._motion[j] = np.concatenate((self._motion[j][:6], self._motion[j][6:] + dvel_n))
-        stamp_ns, pos_n, C_nb = self._track[end]
-        end_height = self._heights[end]
-        tail = slice(end + 1, None)
-        heights, up_b, motion, track = (self._heights[tail], self._up_b[tail],
-                                        self._motion[tail], self._track[tail])
-        del self._heights[tail], self._up_b[tail], self._motion[tail], self._track[tail]
-        cycle = self._close(stamp_ns, pos_n)
-        self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
-        self._heights = [h - end_height for h in heights]
-        self._up_b, self._motion, self._track = up_b, motion, track
-        self._gap = False
         return cycle
 
     def _close(self, stamp_ns, pos_n):

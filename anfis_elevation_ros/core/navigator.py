@@ -60,8 +60,7 @@ from .navigation_step import POS_N, PREV_STAMP_NS, Q_NB, RATE_HZ, RELAXED_STANCE
 from .navigation_step import STANCE_SAMPLES, STILL_SAMPLES, THRESHOLD, THRESHOLD_LAW, VEL_N
 from .navigation_step import WAITING_ZUPTS, YOUNG_MAX_NIS, YOUNG_STANCE_SAMPLES, ZARU_MAX_GYR
 from .navigation_step import ZARU_SAMPLES, ZARU_SIGMA, ZUPT_SIGMA
-from .stride_gate import initial_state, LATE_AGE, LATE_DPOS, LATE_DVEL
-from .stride_gate import samples_to_relaxed_stance, StrideGateParams
+from .stride_gate import initial_state, samples_to_relaxed_stance, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .validation import check_range
 from .zupt import adaptive_threshold, GaitIntensity, ShoeDetector, ZuptParams
@@ -154,7 +153,6 @@ class NavigatorStatus:
     zaru_samples: int = 0
     waiting_zupts: int = 0         # young stance samples whose implausible ZUPT waited
     relaxed_stances: int = 0       # stances the stride gate found where SHOE saw none
-    late_stances: int = 0          # stances it found after the fact (cycles cut, no ZUPT)
     gaps: int = 0
     missing_samples: int = 0
     cycles: int = 0
@@ -410,12 +408,6 @@ class FootNavigator:
         # S4, eq. (8)-(12): gait cycles from the corrected track, cut at the gait stances.
         cycle = self._gait.update(stamp_ns, flags & 4 == 4, pos_n, self._C_nb.copy(), acc_b, gyr_b,
                                   self._nominal[VEL_N], flags & 2 == 2)
-        late = flags & 8 == 8
-        if late:
-            # A stance the gate found after the fact: the cycle ends there, not here.
-            gate = self._gate_state
-            cycle = self._gait.split(int(gate[LATE_AGE]), gate[LATE_DPOS], gate[LATE_DVEL])
-            self._status.late_stances += 1
         if cycle is not None:
             status.cycles += 1
             status.invalid_cycles += not cycle.valid
@@ -424,7 +416,7 @@ class FootNavigator:
                                                               ekf.ATT.start + 2]))
             if self._map is not None and not self._map.fixed:
                 cycle = self._align_map(cycle)
-            elif not late:
+            else:
                 self._aid_heading()
         # The nominal state, not pos_n: the filter may have been rotated into the map frame.
         return self._map_point(TrackPoint(stamp_ns, self._nominal[POS_N].copy(),
@@ -453,11 +445,13 @@ class FootNavigator:
             nominal[Q_NB] = quat_multiply(self._map_quat(), nominal[Q_NB])
             self._P[:, :] = rotate_error_covariance(self._P, self._map.psi_rad)
             self._C_nb[:, :] = quat_to_dcm(nominal[Q_NB])
+            return replace(cycle, pos_n=nominal[POS_N].copy())
         return replace(cycle, pos_n=self._map.to_map(cycle.pos_n))
 
     def _aid_heading(self):
         """Apply the heading aids that hold at this stance (``core/heading_aids.py``)."""
-        for dx, P in self._aider.at_stance(self._nominal[POS_N], self._P):
+        nominal = self._nominal
+        for dx, P in self._aider.at_stance(nominal[POS_N], self._P):
             self._apply_correction(dx, P)
 
     def _apply_correction(self, dx, P):
