@@ -25,6 +25,7 @@ Public API: :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
 :data:`SAME_STAIRS_M`, :data:`SAME_LEVEL_M`.
 """
 
+from dataclasses import dataclass, field
 import math
 from typing import Callable, Optional
 
@@ -42,6 +43,28 @@ SAME_LEVEL_M = 0.5
 
 Less than half the shortest flight (6 risers of 0.14 m), more than the height error allowed.
 """
+
+
+@dataclass
+class Stairwell:
+    """
+    One stairwell: its riser height estimate and how its last flight ended.
+
+    Attributes
+    ----------
+    estimator : the riser height of its flights' strides.
+    flights : each finished flight's signed riser count at a riser height K, ``risers(K)``.
+    end_xy : (x, y) where its last flight ended, m, or None.
+    direction : that flight's direction (+1 up, -1 down; 0 none yet).
+    end_height_m : the height it ended at, m, or None.
+
+    """
+
+    estimator: RiserHeightEstimator
+    flights: list = field(default_factory=list)
+    end_xy: Optional[tuple] = None
+    direction: int = 0
+    end_height_m: Optional[float] = None
 
 
 class StairwellRiserHeights:
@@ -74,9 +97,7 @@ class StairwellRiserHeights:
     def __init__(self, prior_m: float, known_m: Optional[float] = None,
                  prior_sigma_m: float = PRIOR_SIGMA_M):
         self._template = RiserHeightEstimator(prior_m, known_m, prior_sigma_m)
-        # [estimator, riser counters of its finished flights, (x, y) where its last flight ended,
-        #  that flight's direction, the height it ended at]
-        self._wells = []
+        self._wells = []            # Stairwell records
         self._risers_at = {}        # (stairwell, K) -> N_w(K): K moves only during a flight
         self._flight_log_likelihood = None
         self._flight_strides = 0
@@ -120,8 +141,8 @@ class StairwellRiserHeights:
         if same_stairs is not None:
             self._index = same_stairs
         elif self._template.estimating:
-            evidence = [stairwell_evidence(well[0].log_posterior(), self._flight_log_likelihood)
-                        for well in self._wells]
+            evidence = [stairwell_evidence(well.estimator.log_posterior(),
+                                           self._flight_log_likelihood) for well in self._wells]
             new = stairwell_evidence(self._template.log_posterior(),
                                      self._flight_log_likelihood)
             best = int(np.argmax(evidence)) if evidence else None
@@ -141,26 +162,29 @@ class StairwellRiserHeights:
             self._flight_log_likelihood = None
             return
         if self._index is None:
-            first = self._template
-            self._wells.append([RiserHeightEstimator(first.prior_m, first.known_m,
-                                                     first.prior_sigma_m), [], None, 0, None])
+            self._wells.append(Stairwell(self._new_estimator()))
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
-        well[0].commit(self._flight_log_likelihood, self._flight_strides)
-        well[1].append(risers)
+        well.estimator.commit(self._flight_log_likelihood, self._flight_strides)
+        well.flights.append(risers)
         self._risers_at.clear()
-        well[2] = self._flight_end_xy
-        well[3] = self._flight_direction
-        well[4] = end_height_m
+        well.end_xy = self._flight_end_xy
+        well.direction = self._flight_direction
+        well.end_height_m = end_height_m
         self._flight_log_likelihood = None
+
+    def _new_estimator(self) -> RiserHeightEstimator:
+        first = self._template
+        return RiserHeightEstimator(first.prior_m, first.known_m, first.prior_sigma_m)
 
     def _stairwell_ending_near(self, xy: Optional[tuple]) -> Optional[int]:
         """Return the stairwell whose last flight, the other way, ended near (x, y) and height."""
         if xy is None or not self._flight_direction:
             return None
         start_m = self._flight_start_height_m
-        for k, (_, _, end_xy, direction, end_m) in enumerate(self._wells):
-            if end_xy is not None and direction == -self._flight_direction and math.hypot(
+        for k, well in enumerate(self._wells):
+            end_xy, end_m = well.end_xy, well.end_height_m
+            if end_xy is not None and well.direction == -self._flight_direction and math.hypot(
                     xy[0] - end_xy[0], xy[1] - end_xy[1]) <= SAME_STAIRS_M and (
                     start_m is None or end_m is None or abs(start_m - end_m) <= SAME_LEVEL_M):
                 return k
@@ -172,46 +196,48 @@ class StairwellRiserHeights:
     @property
     def estimate_m(self) -> float:
         """Return the riser height of the open (else the last) flight's stairwell, m."""
-        estimator = self._template if self._index is None else self._wells[self._index][0]
-        return estimator.estimate_with(self._open_flight())
+        return self._current_estimator().estimate_with(self._open_flight())
 
     @property
     def climbed_m(self) -> float:
         """Return the height of the finished flights, sum_w K_w N_w(K_w), m."""
         total = 0.0
-        for k, (estimator, flights, *_) in enumerate(self._wells):
+        for k, well in enumerate(self._wells):
             more = self._open_flight() if k == self._index else None
-            k_m = estimator.estimate_with(more)
+            k_m = well.estimator.estimate_with(more)
             if (k, k_m) not in self._risers_at:
-                self._risers_at[k, k_m] = sum(risers(k_m) for risers in flights)
+                self._risers_at[k, k_m] = sum(risers(k_m) for risers in well.flights)
             total += k_m * self._risers_at[k, k_m]
         return total
 
     def forget_climbs(self):
         """Forget the finished flights (their height is in the caller's base: a new K, a floor)."""
         for well in self._wells:
-            well[1] = []
+            well.flights = []
         self._risers_at.clear()
 
     def resume(self, estimate_m: float, strides: int):
         """Carry on from a saved estimate (a restart): one stairwell that has it."""
-        estimator = RiserHeightEstimator(self._template.prior_m, self._template.known_m,
-                                         self._template.prior_sigma_m)
+        estimator = self._new_estimator()
         estimator.resume(estimate_m, strides)
-        self._wells = [[estimator, [], None, 0, None]]
+        self._wells = [Stairwell(estimator)]
         self._risers_at.clear()
         self._index = 0
 
     def set_prior(self, prior_m: float, sigma_m: float):
         """Move every stairwell's prior (a live parameter change); strides are kept."""
-        for estimator in [self._template] + [well[0] for well in self._wells]:
+        for estimator in [self._template] + [well.estimator for well in self._wells]:
             estimator.set_prior(prior_m, sigma_m)
 
     @property
     def strides(self) -> int:
         """Return the stair strides behind the current estimate."""
-        estimator = self._template if self._index is None else self._wells[self._index][0]
-        return estimator.strides + self._flight_strides * (self._open_flight() is not None)
+        return self._current_estimator().strides + self._flight_strides * (
+            self._open_flight() is not None)
+
+    def _current_estimator(self) -> RiserHeightEstimator:
+        """Return the estimator of the open (else the last) flight's stairwell, or the prior's."""
+        return self._template if self._index is None else self._wells[self._index].estimator
 
     @property
     def estimating(self) -> bool:
