@@ -243,8 +243,14 @@ def test_late_and_restarted_classifier_carries_on(walk, ros):
     saved = load_state(state_file(str(params.parent / 'state'), '/classifier_node'),
                        ElevationState)
     play(player, rec, second_cut, second_cut + int(5 * RATE_HZ))   # 5 s without a classifier
+    listener.diagnostics.clear()
     classifier.start()
     classifier.wait_log('resumed floor', count=1)
+    # A listener that has not yet discovered the new classifier hears only the latest of the
+    # cycles published meanwhile (once, 1 of the 3 asked for below): wait until it hears the
+    # new classifier, as a supervisor's health check would, then play on.
+    assert wait_for(lambda: CLASSIFIER_OUTPUT in listener.diagnostics, 30.0), classifier.log()
+    time.sleep(0.5)
     play(player, rec, second_cut + int(5 * RATE_HZ), len(rec))
     final_floor = floor_index(walk['walk'].strides.height_m[-1], FLOOR_HEIGHT_M)
     assert wait_for(lambda: listener.floors and listener.floors[-1][0] == final_floor, 10.0), \
