@@ -19,8 +19,8 @@ import math
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.frames import rpy_to_dcm
 from anfis_elevation_ros.core.gait import (
-    foot_inclination, GaitParams, GaitSegmenter, height_features, max_relative_pitch,
-    MountingEstimator)
+    feature_index, foot_inclination, GaitParams, GaitSegmenter, height_features,
+    max_relative_pitch, MountingEstimator)
 import numpy as np
 import pytest
 
@@ -77,6 +77,49 @@ def test_a_stride_makes_one_cycle_closed_by_its_first_stance_sample():
     assert cycle.valid and cycle.height_change_m == pytest.approx(0.17)
     assert cycle.features[3] == pytest.approx(0.17)
     assert np.allclose(cycle.pos_n, [0.7, 0.0, 0.17])
+
+
+def test_a_late_stance_zupt_is_carried_back_to_the_samples_since_it_and_cuts_nothing():
+    # One swing (samples 20-119) over two strides; at sample 99 a late stance 30 samples back
+    # (sample 69) was found and its ZUPT moved the position by dpos and the velocity by dvel:
+    # sample j, t_j before 99, by dpos - dvel t_j (the height) and dvel (the velocity).
+    heights = np.concatenate([np.zeros(20), np.linspace(0.0, 0.34, 100), np.full(20, 0.34)])
+    stance = np.concatenate([np.ones(20), np.zeros(100), np.ones(20)]).astype(bool)
+    dpos, dvel = np.array([0.0, 0.0, 0.01]), np.array([0.5, 0.0, 0.02])
+    segmenter = GaitSegmenter(GaitParams(), RATE_HZ, MountingEstimator(GaitParams(), np.eye(3)))
+    cycles = []
+    for k, (h, still) in enumerate(zip(heights, stance)):
+        cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
+                                 np.zeros(3), np.zeros(3), np.zeros(3))
+        if k == 99:
+            segmenter.correct_since(30, dpos, dvel)
+        if cycle is not None:
+            cycles.append(cycle)
+    assert len(cycles) == 1 and cycles[0].start_stamp_ns == 19 * 10_000_000
+    held = heights[20:121].copy()                 # the swing and the closing stance sample
+    held[69 - 20:99 - 20] += 0.01 - 0.02 * (99 - np.arange(69, 99)) / RATE_HZ
+    features = cycles[0].features
+    assert features[feature_index(['mean_height_m'])[0]] == pytest.approx(np.mean(held))
+    assert features[feature_index(['max_horizontal_speed_mps'])[0]] == pytest.approx(0.5)
+
+
+def test_a_late_stance_outside_a_swing_or_the_held_samples_corrects_nothing():
+    heights, stance = step_up(50, 0.17)
+
+    def cycle(late_at):
+        segmenter = GaitSegmenter(GaitParams(), RATE_HZ,
+                                  MountingEstimator(GaitParams(), np.eye(3)))
+        for k, (h, still) in enumerate(zip(heights, stance)):
+            closed = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]),
+                                      np.eye(3), np.zeros(3), np.zeros(3), np.zeros(3))
+            if k in late_at:
+                segmenter.correct_since(late_at[k], np.ones(3), np.ones(3))
+            if closed is not None:
+                return closed.features
+    plain = cycle({})
+    assert cycle({10: 2}) == pytest.approx(plain)           # in the stand before the walk
+    assert cycle({30: 20}) == pytest.approx(plain)          # reaching back before the swing
+    assert cycle({40: 5}) != pytest.approx(plain)           # inside it
 
 
 def test_short_swings_are_no_cycle_and_long_ones_are_invalid():

@@ -19,7 +19,8 @@ import math
 from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.core.stride_gate import (
-    initial_state, PERIOD_S, samples_to_relaxed_stance, stride_gate_update, StrideGateParams)
+    initial_state, LATE_AGE, PERIOD_S, samples_to_relaxed_stance, stride_gate_update,
+    StrideGateParams)
 from anfis_elevation_ros.sim import Segment, simulate_walk
 from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS
 from gdin_support import gdin_walk
@@ -30,15 +31,27 @@ RATE_HZ = 100.0
 GAMMA = 1.0e7
 PARAMS = StrideGateParams(enabled=True, relaxed_factor=3.0, relaxed_floor=0.0,
                           refractory_fraction=0.7,
-                          swing_level=1e9, swing_arm_s=0.05, confirm_s=0.05)
+                          swing_level=1e9, swing_arm_s=0.05, confirm_s=0.05, late_stances=True)
+
+
+# The error covariance of a filter sure of its velocity to 0.05 m/s (a ZUPT's NIS: |v|^2 / 0.005)
+P_SURE = np.eye(15) * 0.05 ** 2
 
 
 def run(statistics, shoe_stance, params=PARAMS):
     """Return the gate's flags for each sample and its final state."""
+    flags, _, state = run_with_ages(statistics, shoe_stance, params)
+    return flags, state
+
+
+def run_with_ages(statistics, shoe_stance, params=PARAMS, vel_n=np.zeros(3), P=P_SURE):
+    """Return the flags, the sample each late stance names (-1 elsewhere), the final state."""
     state, config = initial_state(), params.config(RATE_HZ)
-    flags = [stride_gate_update(state, config, t, GAMMA, s)
-             for t, s in zip(statistics, shoe_stance)]
-    return np.array(flags), state
+    flags, late = [], []
+    for k, (t, s) in enumerate(zip(statistics, shoe_stance)):
+        flags.append(stride_gate_update(state, config, t, GAMMA, s, vel_n, P))
+        late.append(k - int(state[LATE_AGE]) if flags[-1] & 8 else -1)
+    return np.array(flags), np.array(late), state
 
 
 def stride(stance, swing_s=0.5, stance_s=0.5, dip=None):
@@ -56,6 +69,18 @@ def stride(stance, swing_s=0.5, stance_s=0.5, dip=None):
     n = int(stance_s * RATE_HZ)
     rest = 0.9 * stance * (1.0 + 0.5 * np.abs(np.arange(n) - n // 2) / (n // 2))
     return np.concatenate((swing, rest))
+
+
+def strides_with_a_dip(swing_samples, dip, value, count):
+    """Return a stand of 0.5 s, then strides: a swing with ``value`` at ``dip``, a stance."""
+    swing = np.full(swing_samples, 1e10)
+    swing[dip] = value
+    return np.concatenate([np.full(50, 1e5)] + [swing, np.full(50, 1e6)] * count)
+
+
+def cycles_opened(flags):
+    """Return the number of gait stances that follow a sample that was none."""
+    return len(np.flatnonzero((flags & 2 == 2) & np.r_[True, flags[:-1] & 2 == 0]))
 
 
 def test_a_shoe_stance_after_a_swing_opens_a_cycle_and_stays_one():
@@ -87,7 +112,7 @@ def test_the_relaxed_stance_is_foreseen_by_a_countdown():
     state, config = initial_state(), PARAMS.config(RATE_HZ)
     foreseen, relaxed = [], []
     for k, t in enumerate(statistics):
-        if stride_gate_update(state, config, t, GAMMA, t < GAMMA) & 4:
+        if stride_gate_update(state, config, t, GAMMA, t < GAMMA, np.zeros(3), P_SURE) & 4:
             relaxed.append(k)
         foreseen.append(samples_to_relaxed_stance(state, config, GAMMA))
     assert len(relaxed) == 2
@@ -99,7 +124,7 @@ def test_a_stance_far_above_gamma_is_refused():
     statistics = np.concatenate([np.full(50, 1e5)] + [stride(4e7) for _ in range(3)])
     flags, _ = run(statistics, statistics < GAMMA)
     assert np.all(flags[:50] == 3)             # the stand before the walk
-    assert not np.any(flags[50:])
+    assert not np.any(flags[50:] & 7)          # no ZUPT (late stances: below)
 
 
 def test_a_brief_dip_followed_by_the_impact_is_refused():
@@ -136,15 +161,52 @@ def test_a_hover_mid_swing_after_a_long_stance_is_no_stance():
     # Stairs (x-io's spiral stairs): stances of 0.5 s, swings of 0.6 s in which the foot
     # hovers over the next step for 0.1 s. 0.7 of the 1.1 s stride period after a stance
     # began falls in that hover; counted from the stance's end it does not.
-    def stair_stride():
-        swing = np.full(60, 1e10)
-        swing[25:35] = 1.5e7
-        return np.concatenate((swing, np.full(50, 1e6)))
-    statistics = np.concatenate([np.full(50, 1e5)] + [stair_stride() for _ in range(6)])
+    statistics = strides_with_a_dip(60, slice(25, 35), 1.5e7, 6)
     flags, _ = run(statistics, statistics < GAMMA)
     assert not np.any(flags & 4)
-    opened = np.flatnonzero((flags & 2 == 2) & np.r_[True, flags[:-1] & 2 == 0])
-    assert len(opened) == 1 + 6          # the stand, then one cycle a stride
+    assert cycles_opened(flags) == 1 + 6          # the stand, then one cycle a stride
+
+
+def test_a_stance_too_shaky_for_a_relaxed_one_is_found_after_the_fact_between_two_swings():
+    # Stances at 4e7 (above 3 gamma, refused as relaxed stances, test above): when the next
+    # swing has armed and no stance follows within half the time from the last stance to the
+    # minimum, the minimum was the stance: a late stance (flag 8, its ZUPT late) names its
+    # sample.
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(4e7) for _ in range(4)])
+    flags, late, _ = run_with_ages(statistics, statistics < GAMMA)
+    found = late[late >= 0]
+    minima = np.flatnonzero(statistics == 0.9 * 4e7)
+    assert np.array_equal(found, minima[:3])      # the last stance has no swing after it
+    assert np.all(flags[late >= 0] == 8)
+    # found 0.5 x (minimum - last stance) after the minimum: 75 samples after the stand's
+    # end for the first, then strides of 1 s
+    assert np.array_equal(np.flatnonzero(late >= 0) - found, [38, 50, 50])
+    off = StrideGateParams(**{**PARAMS.__dict__, 'late_stances': False})
+    assert not np.any(run(statistics, statistics < GAMMA, off)[0] & 8)
+
+
+def test_a_late_stance_whose_foot_moves_beyond_the_filters_doubt_is_refused():
+    # The same strides, the INS velocity at the minima 0.9 m/s: NIS 0.81 / (0.05^2 + 0.05^2)
+    # = 162 passes the bound of 200; at 1.1 m/s (242) the foot was still moving. A filter
+    # unsure of its velocity (1 m/s) takes 1.1 m/s for its own error.
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(4e7) for _ in range(4)])
+
+    def late_stances(speed, P=P_SURE):
+        flags = run_with_ages(statistics, statistics < GAMMA, vel_n=np.array([0.0, 0.0, speed]),
+                              P=P)[0]
+        return np.count_nonzero(flags & 8)
+    assert late_stances(0.9) == 3
+    assert late_stances(1.1) == 0
+    assert late_stances(1.1, np.eye(15)) == 3
+
+
+def test_a_dip_late_in_the_swing_followed_soon_by_a_stance_is_no_late_stance():
+    # A swing of 1.2 s with a dip (5e8 < the swing level) 0.9 s after the last stance: the
+    # swing resumes, but the stance comes 0.3 s after the dip, under half of 0.9 s.
+    statistics = strides_with_a_dip(120, slice(85, 88), 5e8, 4)
+    flags, _ = run(statistics, statistics < GAMMA)
+    assert not np.any(flags & 8)
+    assert cycles_opened(flags) == 1 + 4
 
 
 def test_a_stance_broken_briefly_continues_and_after_a_long_break_opens_no_cycle():
@@ -171,7 +233,8 @@ def test_nan_statistic_while_the_window_fills_is_no_stance():
 @pytest.mark.parametrize('field, value', [
     ('relaxed_factor', 0.5), ('refractory_fraction', 1.5), ('swing_level', 0.0),
     ('confirm_s', 1.0), ('relaxed_sigma_mps', 0.0), ('relaxed_floor', -1.0),
-    ('current_factor', 0.5), ('max_break_s', 2.0)])
+    ('current_factor', 0.5), ('max_break_s', 2.0), ('late_balance', -0.1),
+    ('late_sigma_mps', 0.0), ('late_max_nis', -1.0)])
 def test_out_of_range_parameters_are_refused(field, value):
     with pytest.raises(InputError, match=field):
         StrideGateParams(**{field: value})
@@ -197,16 +260,31 @@ def test_navigator_with_the_gate_finds_every_simulated_stride_and_live_equals_ba
     assert all(np.array_equal(a.pos_n, b.pos_n) for a, b in zip(cycles, live_cycles))
 
 
+def gdin_cycles(walk, gate):
+    """Return the cycles of a gdin walk with a stride gate, and the navigator's status."""
+    recording = walk.recording
+    navigator = FootNavigator(NavigatorParams(gyro_range_rps=GYRO_RANGE_RPS, stride_gate=gate))
+    _, cycles = navigator.run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
+    return len(cycles), navigator.status
+
+
 def test_the_gate_finds_the_strides_shoe_merges_on_a_real_brisk_walk_and_counts_them():
     # gdin walk 32 (80 m of corridors, 61 strides): measured 59 cycles without the gate (two
     # stances never still enough for SHOE), 61 with it, the relaxed stances counted.
     walk = gdin_walk(32)
-    recording = walk.recording
-    counts = {}
-    for enabled in (False, True):
-        navigator = FootNavigator(NavigatorParams(
-            gyro_range_rps=GYRO_RANGE_RPS, stride_gate=StrideGateParams(enabled=enabled)))
-        _, cycles = navigator.run(recording.stamp_ns, recording.acc_b, recording.gyr_b)
-        counts[enabled] = (len(cycles), navigator.status.relaxed_stances)
-    assert counts[False][0] < walk.n_strides and counts[False][1] == 0
-    assert counts[True][0] == walk.n_strides and counts[True][1] > 0
+    without, status_without = gdin_cycles(walk, StrideGateParams(enabled=False))
+    with_gate, status = gdin_cycles(walk, StrideGateParams(enabled=True))
+    assert without < walk.n_strides and status_without.relaxed_stances == 0
+    assert with_gate == walk.n_strides and status.relaxed_stances > 0
+
+
+@pytest.mark.parametrize('number', [34, 38])
+def test_late_stances_find_the_stances_no_stance_rule_finds_on_real_walks_and_cut_no_cycle(number):
+    # gdin walks 34 (24 strides) and 38 (60): measured 23 and 57 cycles with relaxed stances
+    # alone (a gentle first step, and on 38 two stances too shaky for a relaxed one); the late
+    # stances find those 1 and 3, apply their ZUPTs late and leave the cycles as they were.
+    walk = gdin_walk(number)
+    without, status_without = gdin_cycles(walk, StrideGateParams(late_stances=False))
+    with_late, status = gdin_cycles(walk, StrideGateParams(late_stances=True))
+    assert with_late == without < walk.n_strides and status_without.late_stances == 0
+    assert status.late_stances == walk.n_strides - without

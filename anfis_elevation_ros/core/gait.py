@@ -238,6 +238,7 @@ class GaitSegmenter:
         self._heights = []
         self._up_b = []
         self._motion = []
+        self._stamps_ns = []
         self._gap = False
 
     def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
@@ -273,18 +274,38 @@ class GaitSegmenter:
             self._heights.clear()
             self._up_b.clear()
             self._motion.clear()
+            self._stamps_ns.clear()
             self._gap = False
         self._gap = self._gap or gap
         if len(self._heights) < self._max_samples:
             self._heights.append(pos_n[2] - self._stance_pos_n[2])
             self._up_b.append(C_nb[2, :])
             self._motion.append(np.concatenate((acc_b, gyr_b, vel_n)))
+            self._stamps_ns.append(stamp_ns)
         if not stance:
             return None
         self._in_swing = False
         cycle = self._close(stamp_ns, pos_n)
         self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
         return cycle
+
+    def correct_since(self, age: int, dpos_n: np.ndarray, dvel_n: np.ndarray):
+        """
+        Carry a late stance's ZUPT back to the swing's samples since it, ``age`` samples ago.
+
+        The ZUPT, applied at the last sample, corrected the position by ``dpos_n`` and the
+        velocity by ``dvel_n``; with the velocity error constant since the late stance, sample j
+        is corrected by dpos_n - dvel_n (t_last - t_j) in position (its height) and dvel_n in
+        velocity (the last sample's are already). Nothing outside a swing, nor once the swing
+        has outgrown the samples held (its cycle will be invalid).
+        """
+        end = len(self._stamps_ns) - 1 - int(age)
+        if not self._in_swing or end < 0 or len(self._stamps_ns) >= self._max_samples:
+            return
+        last_ns = self._stamps_ns[-1]
+        for j in range(end, len(self._stamps_ns) - 1):
+            self._heights[j] += dpos_n[2] - dvel_n[2] * ((last_ns - self._stamps_ns[j]) * 1e-9)
+            self._motion[j] = np.concatenate((self._motion[j][:6], self._motion[j][6:] + dvel_n))
 
     def _close(self, stamp_ns, pos_n):
         swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9

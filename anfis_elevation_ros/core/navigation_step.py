@@ -35,7 +35,8 @@ from .frames import dcm_to_quat, dcm_to_rpy, level_attitude_from_gravity, mat_mu
 from .frames import quat_to_dcm, rpy_to_dcm
 from .jit import jit
 from .strapdown import strapdown_step
-from .stride_gate import RELAXED_SIGMA, stride_gate_update
+from .stride_gate import CANDIDATE_VEL, LATE_DPOS, LATE_DVEL, LATE_SIGMA, RELAXED_SIGMA
+from .stride_gate import stride_gate_update
 from .zupt import adaptive_threshold, intensity_update, shoe_update, window_is_still
 from .zupt import young_stance_waits
 
@@ -79,7 +80,9 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
     -------
     1 if the sample is a stance sample (ZUPT), plus 2 if samples were missing before it (a
     gap), plus 4 if it is a gait stance (it closes or continues a gait cycle's stance, see
-    ``stride_gate_update``).
+    ``stride_gate_update``), plus 8 if the gate found a stance after the fact (a late stance,
+    the sample the gate's state gives: its velocity is measured here as a ZUPT, the correction
+    in the gate's state for the buffered samples).
 
     """
     dt_s = (stamp_ns - counts[PREV_STAMP_NS]) * 1e-9
@@ -120,7 +123,8 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
             scalars[YOUNG_MAX_NIS]):
         still = False
         counts[WAITING_ZUPTS] += 1
-    gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD], still)
+    gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD], still,
+                              vel_n, P)
     stance = gate & 1 == 1
     if gate & 4 == 4:
         counts[RELAXED_STANCES] += 1
@@ -156,10 +160,19 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
             q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
                 q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
 
+    if gate & 8 == 8:
+        # A late stance: the velocity error at it, carried to now, measured (a delayed ZUPT).
+        dx, P_new, _ = ekf.zupt_correction(P, gate_state[CANDIDATE_VEL], gate_config[LATE_SIGMA])
+        P[:, :] = P_new
+        gate_state[LATE_DPOS] = dx[ekf.POS]
+        gate_state[LATE_DVEL] = dx[ekf.VEL]
+        q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
+            q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
+
     nominal[Q_NB] = q_nb
     nominal[VEL_N] = vel_n
     nominal[POS_N] = pos_n
     nominal[ACC_BIAS_B] = acc_bias_b
     nominal[GYR_BIAS_B] = gyr_bias_b
     C_nb_out[:, :] = quat_to_dcm(q_nb)
-    return int(stance) + 2 * int(gap) + 4 * int(gate & 2 == 2)
+    return int(stance) + 2 * int(gap) + 4 * int(gate & 2 == 2) + (gate & 8)

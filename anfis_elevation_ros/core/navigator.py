@@ -60,7 +60,8 @@ from .navigation_step import POS_N, PREV_STAMP_NS, Q_NB, RATE_HZ, RELAXED_STANCE
 from .navigation_step import STANCE_SAMPLES, STILL_SAMPLES, THRESHOLD, THRESHOLD_LAW, VEL_N
 from .navigation_step import WAITING_ZUPTS, YOUNG_MAX_NIS, YOUNG_STANCE_SAMPLES, ZARU_MAX_GYR
 from .navigation_step import ZARU_SAMPLES, ZARU_SIGMA, ZUPT_SIGMA
-from .stride_gate import initial_state, samples_to_relaxed_stance, StrideGateParams
+from .stride_gate import initial_state, LATE_AGE, LATE_DPOS, LATE_DVEL
+from .stride_gate import samples_to_relaxed_stance, StrideGateParams
 from .units import check_acc_scale, check_gyro_rate, check_rest_gravity
 from .validation import check_range
 from .zupt import adaptive_threshold, GaitIntensity, ShoeDetector, ZuptParams
@@ -153,6 +154,7 @@ class NavigatorStatus:
     zaru_samples: int = 0
     waiting_zupts: int = 0         # young stance samples whose implausible ZUPT waited
     relaxed_stances: int = 0       # stances the stride gate found where SHOE saw none
+    late_stances: int = 0          # stances it found after the fact (their ZUPT late)
     gaps: int = 0
     missing_samples: int = 0
     cycles: int = 0
@@ -408,6 +410,11 @@ class FootNavigator:
         # S4, eq. (8)-(12): gait cycles from the corrected track, cut at the gait stances.
         cycle = self._gait.update(stamp_ns, flags & 4 == 4, pos_n, self._C_nb.copy(), acc_b, gyr_b,
                                   self._nominal[VEL_N], flags & 2 == 2)
+        if flags & 8 == 8:
+            # A stance the gate found after the fact: its late ZUPT reaches the cycle's samples.
+            gate = self._gate_state
+            self._gait.correct_since(int(gate[LATE_AGE]), gate[LATE_DPOS], gate[LATE_DVEL])
+            status.late_stances += 1
         if cycle is not None:
             status.cycles += 1
             status.invalid_cycles += not cycle.valid

@@ -244,6 +244,18 @@ _DOCS = {
                                 's.', 0.0, 1.0, _READ_ONLY),
     'stride_gate.relaxed_sigma_mps': ('Standard deviation of the ZUPT at a relaxed stance, '
                                       'm/s.', 1e-4, 10.0, _READ_ONLY),
+    'stride_gate.late_stances': ('A second swing with no stance since the first makes the '
+                                 'lowest statistic between them a stance, its ZUPT applied '
+                                 'late (the cycle is not cut).', None, None, _READ_ONLY),
+    'stride_gate.late_balance': ('... when no stance follows it within this fraction of the '
+                                 'time from the last stance to it (a dip mid-swing is followed '
+                                 'by a stance sooner).', 0.0, 2.0, _READ_ONLY),
+    'stride_gate.late_sigma_mps': ("Standard deviation of the late stance's ZUPT (its velocity "
+                                   'error carried to the sample that finds it), m/s.', 1e-4,
+                                   10.0, _READ_ONLY),
+    'stride_gate.late_max_nis': ("... and when its velocity is plausible as the filter's "
+                                 'velocity error: NIS of its ZUPT at most this.', 0.0, 1e12,
+                                 _READ_ONLY),
     # EkfParams
     'ekf.acc_noise_mps2_sqrt_hz': ('Accelerometer white-noise density, m/s^2/sqrt(Hz).', 1e-6,
                                    10.0, _READ_ONLY),

@@ -36,6 +36,21 @@ through zero for a few samples) for a stance. The gate uses what every stride ha
   confirming sample, ``confirm_s`` after the minimum: a sample that is itself almost still (a
   brief dip just before the heel strikes is followed by the impact, not by a stance); nothing
   waits, so live and replay stay identical.
+- late stance: a stance too shaky for either (a brisk or running stride never stills the foot,
+  a gentle first step meets a bound still at its floor) leaves the gate armed into the next
+  swing. When that swing has armed (``swing_arm_s`` above ``swing_level``) with no stance
+  since the first, the lowest statistic between them (after the refractory period) is a
+  candidate; if no stance follows within ``late_balance`` times the time from the last stance
+  to it (a dip late in a swing is followed by its stance sooner: 0.24-0.32 s after dips 0.7-0.9
+  s into the swing on gdin_hallway, 0.66-1.35 s after the missed stances), it was the stance.
+  A candidate is kept only if its INS velocity is plausible as the filter's velocity error:
+  the ZUPT's normalised innovation squared at most ``late_max_nis`` (0-138 at gdin_hallway's
+  late stances, 424-952 at the dips of long simulated stair swings, where the foot moves at
+  1.5-2.5 m/s). The gate reports it then, with its age (``LATE_AGE``); the navigator applies
+  the velocity there as a ZUPT late (``navigation_step``) and carries its correction back to
+  the cycle's samples since then (``GaitSegmenter.correct_since``). The gait cycle is not cut
+  there: HuGaDB's cycles cut at late stances were brisk stair strides the classifier calls
+  level (README, "Late stances").
 
 ``stride_gate_update`` is the per-sample step (compiled, called by the navigator's kernel);
 ``samples_to_relaxed_stance`` tells the live node when a relaxed stance may be due.
@@ -46,20 +61,23 @@ import math
 
 import numpy as np
 
+from .ekf import zupt_nis
 from .jit import jit
 from .validation import check_range
 
 # Layout of the gate's state array:
 ARMED, SWING_SAMPLES, RUN_MIN, MIN_AGE, SINCE_ONSET, PERIOD_S, SINCE_STANCE, LAST_GAIT, \
-    ONSETS = range(9)
+    ONSETS, SWING_RUN, CANDIDATE_AGE, CANDIDATE_SPAN, LATE_AGE = range(13)
+MIN_VEL, CANDIDATE_VEL, LATE_DPOS, LATE_DVEL = (slice(13, 16), slice(16, 19), slice(19, 22),
+                                                slice(22, 25))
 N_INTERVALS = 5
-INTERVALS = slice(9, 9 + N_INTERVALS)
+INTERVALS = slice(25, 25 + N_INTERVALS)
 N_STATE = INTERVALS.stop
 # and of its settings array:
 RELAXED_FACTOR, REFRACTORY, SWING_LEVEL, ARM_SAMPLES, CONFIRM_SAMPLES, RATE_HZ, MIN_PERIOD_S, \
-    MAX_PERIOD_S, ENABLED, RELAXED_SIGMA, RELAXED_FLOOR, MAX_BREAK_SAMPLES, CURRENT_FACTOR = \
-    range(13)
-N_CONFIG = 13
+    MAX_PERIOD_S, ENABLED, RELAXED_SIGMA, RELAXED_FLOOR, MAX_BREAK_SAMPLES, CURRENT_FACTOR, \
+    LATE_BALANCE, LATE_SIGMA, LATE_MAX_NIS = range(16)
+N_CONFIG = 16
 
 
 @dataclass(frozen=True)
@@ -87,6 +105,12 @@ class StrideGateParams:
         there is not quite still; 0.1 until 2026-12-06, which left the velocity error of
         HuGaDB's clipped swings in the next stride: its new-wearer accuracy 0.930 with the
         gate, 0.949 at 0.02, README).
+    late_stances : find the stances between two swings after the fact (their ZUPT late).
+    late_balance : a late stance needs no stance to follow it within this fraction of the time
+        from the last stance to it.
+    late_sigma_mps : standard deviation of a late stance's ZUPT (the velocity error grows by
+        about g x 0.01 rad x 0.45 s between the late stance and the sample that finds it).
+    late_max_nis : largest normalised innovation squared of a late stance's ZUPT.
 
     """
 
@@ -102,6 +126,10 @@ class StrideGateParams:
     max_break_s: float = 0.15
     current_factor: float = 5.0
     relaxed_sigma_mps: float = 0.02
+    late_stances: bool = True
+    late_balance: float = 0.5
+    late_sigma_mps: float = 0.05
+    late_max_nis: float = 200.0
 
     def __post_init__(self):
         for name, low, high in (('relaxed_factor', 1.0, 100.0),
@@ -110,7 +138,10 @@ class StrideGateParams:
                                 ('confirm_s', 0.0, 0.5), ('min_period_s', 0.1, 10.0),
                                 ('max_period_s', self.min_period_s, 10.0),
                                 ('max_break_s', 0.0, 1.0), ('current_factor', 1.0, 1e6),
-                                ('relaxed_sigma_mps', 1e-4, 10.0)):
+                                ('relaxed_sigma_mps', 1e-4, 10.0),
+                                ('late_balance', 0.0, 2.0),
+                                ('late_sigma_mps', 1e-4, 10.0),
+                                ('late_max_nis', 0.0, 1e12)):
             check_range(f'stride gate {name}', getattr(self, name), low, high)
 
     def config(self, rate_hz: float) -> np.ndarray:
@@ -125,6 +156,9 @@ class StrideGateParams:
         config[CONFIRM_SAMPLES] = int(round(self.confirm_s * rate_hz))
         config[MAX_BREAK_SAMPLES] = int(round(self.max_break_s * rate_hz))
         config[CURRENT_FACTOR] = self.current_factor
+        config[LATE_BALANCE] = self.late_balance if self.late_stances else math.inf
+        config[LATE_SIGMA] = self.late_sigma_mps
+        config[LATE_MAX_NIS] = self.late_max_nis
         return config
 
 
@@ -134,14 +168,20 @@ def initial_state() -> np.ndarray:
     state[RUN_MIN] = math.inf
     state[PERIOD_S] = 1.0
     state[LAST_GAIT] = 1.0
+    state[CANDIDATE_AGE] = -1.0
     return state
 
 
 @jit
 def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, gamma: float,
-                       shoe_stance: bool) -> int:
+                       shoe_stance: bool, vel_n: np.ndarray, P: np.ndarray) -> int:
     """
     One sample through the gate: 1 for a stance sample, plus 2 for a gait stance, plus 4 relaxed.
+
+    Or 8 alone for a late stance, ``state[LATE_AGE]`` samples before this one (no ZUPT there;
+    the navigator applies ``state[CANDIDATE_VEL]``, the velocity there, as its ZUPT now). A
+    candidate whose ZUPT is implausible, NIS = v^T (H P H^T + R)^-1 v above ``late_max_nis``
+    (``ekf.zupt_nis``), was no stance.
 
     A gait stance is a stance that opens a gait cycle (armed gate) or continues the last stance
     (within ``max_break_s``); any other stance still gets its ZUPT but does not cut the
@@ -160,6 +200,10 @@ def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, 
         The SHOE threshold in force.
     shoe_stance : bool
         The SHOE decision: T below gamma for ``min_stance_s``.
+    vel_n : (3,) array
+        The INS velocity at the sample (kept at the lowest statistic: a late stance's ZUPT).
+    P : (15, 15) array
+        The error covariance at the sample (a late stance's plausibility).
 
     """
     if config[ENABLED] == 0.0:
@@ -167,10 +211,15 @@ def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, 
     rate_hz = config[RATE_HZ]
     state[SINCE_ONSET] += 1.0
     state[SINCE_STANCE] += 1.0
+    if state[CANDIDATE_AGE] >= 0.0:
+        state[CANDIDATE_AGE] += 1.0
     if statistic > config[SWING_LEVEL]:
         state[SWING_SAMPLES] += 1.0
+        state[SWING_RUN] += 1.0
         if state[SWING_SAMPLES] >= config[ARM_SAMPLES]:
             state[ARMED] = 1.0
+    else:
+        state[SWING_RUN] = 0.0
     stance = shoe_stance
     relaxed = 0
     if not stance and state[ARMED] != 0.0 \
@@ -178,14 +227,26 @@ def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, 
         if statistic < state[RUN_MIN]:
             state[RUN_MIN] = statistic
             state[MIN_AGE] = 0.0
+            state[MIN_VEL] = vel_n
         else:
             state[MIN_AGE] += 1.0
         bound = max(config[RELAXED_FACTOR] * gamma, config[RELAXED_FLOOR])
         stance = state[MIN_AGE] == config[CONFIRM_SAMPLES] and state[RUN_MIN] < bound \
             and statistic < config[CURRENT_FACTOR] * bound
         relaxed = 4 if stance else 0
+        if not stance and state[CANDIDATE_AGE] < 0.0 and state[SWING_RUN] >= config[ARM_SAMPLES] \
+                and state[MIN_AGE] >= state[SWING_RUN] and state[RUN_MIN] < config[SWING_LEVEL]:
+            # A second swing with no stance since the first: its lowest point may be one.
+            state[CANDIDATE_AGE] = state[MIN_AGE]
+            state[CANDIDATE_SPAN] = state[SINCE_STANCE] - state[MIN_AGE]
+            state[CANDIDATE_VEL] = state[MIN_VEL]
     if not stance:
+        if state[CANDIDATE_AGE] >= max(1.0, config[LATE_BALANCE] * state[CANDIDATE_SPAN]):
+            if zupt_nis(P, state[CANDIDATE_VEL], config[LATE_SIGMA]) <= config[LATE_MAX_NIS]:
+                return _late_stance(state, config)
+            state[CANDIDATE_AGE] = -1.0
         return 0
+    state[CANDIDATE_AGE] = -1.0
     state[SWING_SAMPLES] = 0.0
     continues = state[SINCE_STANCE] <= config[MAX_BREAK_SAMPLES] and state[LAST_GAIT] != 0.0
     state[SINCE_STANCE] = 0.0
@@ -209,16 +270,30 @@ def samples_to_relaxed_stance(state: np.ndarray, config: np.ndarray, gamma: floa
 
 
 @jit
-def _open_cycle(state: np.ndarray, config: np.ndarray):
-    """Open a gait cycle at a stance after a swing; add its interval to the stride period."""
+def _late_stance(state: np.ndarray, config: np.ndarray) -> int:
+    """Confirm the candidate as a stance found after the fact, a stride onset in the past."""
+    age = state[CANDIDATE_AGE]
+    state[LATE_AGE] = age
+    state[CANDIDATE_AGE] = -1.0
+    _open_cycle(state, config, age)
+    state[ARMED] = 1.0
+    state[SWING_SAMPLES] = config[ARM_SAMPLES]
+    state[SINCE_STANCE] = age
+    state[LAST_GAIT] = 1.0
+    return 8
+
+
+@jit
+def _open_cycle(state: np.ndarray, config: np.ndarray, age: float = 0.0):
+    """Open a gait cycle at a stance after a swing, ``age`` samples ago; add the interval."""
     if state[ONSETS] > 0.0:
         n = int(min(state[ONSETS], N_INTERVALS))
         slot = INTERVALS.start + int(state[ONSETS] - 1.0) % N_INTERVALS
-        state[slot] = state[SINCE_ONSET] / config[RATE_HZ]
+        state[slot] = (state[SINCE_ONSET] - age) / config[RATE_HZ]
         period = np.median(state[INTERVALS.start:INTERVALS.start + n])
         state[PERIOD_S] = min(max(period, config[MIN_PERIOD_S]), config[MAX_PERIOD_S])
     state[ONSETS] += 1.0
-    state[SINCE_ONSET] = 0.0
+    state[SINCE_ONSET] = age
     state[ARMED] = 0.0
     state[RUN_MIN] = math.inf
     state[MIN_AGE] = 0.0

@@ -62,8 +62,11 @@ def main():
     parser.add_argument('--gyro-range-rps', type=float, default=0.0,
                         help='gyro_range_rps (the pyshoe VICON sensor clips near 9.25)')
     parser.add_argument('--no-rail-fill', action='store_true', help='rail.enabled false')
+    parser.add_argument('--no-late-stances', action='store_true',
+                        help='stride_gate.late_stances false')
     args = parser.parse_args()
-    params = NavigatorParams(stride_gate=StrideGateParams(enabled=not args.no_stride_gate))
+    params = NavigatorParams(stride_gate=StrideGateParams(enabled=not args.no_stride_gate,
+                                                          late_stances=not args.no_late_stances))
     errors = pyshoe_errors(replace(params, gyro_range_rps=args.gyro_range_rps,
                                    rail=GyroRailParams(enabled=not args.no_rail_fill)))
     print(f'pyshoe VICON, {len(errors)} trials: median {np.median(errors):.3f} m, mean '

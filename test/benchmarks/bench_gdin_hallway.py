@@ -82,7 +82,9 @@ def walk_figures(walk, params):
 
 def main():
     # --no-stride-gate: stride_gate.enabled false (core/stride_gate.py; on by default).
-    gate = StrideGateParams(enabled='--no-stride-gate' not in sys.argv)
+    # --no-late-stances: stride_gate.late_stances false (on by default).
+    gate = StrideGateParams(enabled='--no-stride-gate' not in sys.argv,
+                            late_stances='--no-late-stances' not in sys.argv)
     # --no-rail-fill: rail.enabled false (clipped samples add attitude noise only).
     rail = GyroRailParams(enabled='--no-rail-fill' not in sys.argv)
     finals = {name: [] for name in AIDS}
