@@ -79,28 +79,71 @@ def test_a_stride_makes_one_cycle_closed_by_its_first_stance_sample():
     assert np.allclose(cycle.pos_n, [0.7, 0.0, 0.17])
 
 
-def test_a_late_stance_zupt_is_carried_back_to_the_samples_since_it_and_cuts_nothing():
-    # One swing (samples 20-119) over two strides; at sample 99 a late stance 30 samples back
-    # (sample 69) was found and its ZUPT moved the position by dpos and the velocity by dvel:
-    # sample j, t_j before 99, by dpos - dvel t_j (the height) and dvel (the velocity).
-    heights = np.concatenate([np.zeros(20), np.linspace(0.0, 0.34, 100), np.full(20, 0.34)])
-    stance = np.concatenate([np.ones(20), np.zeros(100), np.ones(20)]).astype(bool)
-    dpos, dvel = np.array([0.0, 0.0, 0.01]), np.array([0.5, 0.0, 0.02])
+def run_with_late_stance(heights, stance, late_at, age, dpos, dvel, max_slope):
+    """Segment a walk along x (1 cm a sample) with a late stance found at one sample."""
     segmenter = GaitSegmenter(GaitParams(), RATE_HZ, MountingEstimator(GaitParams(), np.eye(3)))
     cycles = []
     for k, (h, still) in enumerate(zip(heights, stance)):
         cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
                                  np.zeros(3), np.zeros(3), np.zeros(3))
-        if k == 99:
-            segmenter.correct_since(30, dpos, dvel)
+        if k == late_at:
+            late = segmenter.late_stance(age, dpos, dvel, max_slope)
+            cycle = cycle if late is None else late
         if cycle is not None:
             cycles.append(cycle)
+    return cycles
+
+
+def test_a_late_stance_on_stairs_is_carried_back_to_the_samples_since_it_and_cuts_nothing():
+    # One swing (samples 20-119) over two strides up 0.34 m; at sample 99 a late stance 30
+    # samples back (sample 69, 0.5 m from the stance, 0.17 m up: a slope of 0.34) was found and
+    # its ZUPT moved the position by dpos and the velocity by dvel: sample j, t_j before 99, by
+    # dpos - dvel t_j (the height) and dvel (the velocity).
+    heights = np.concatenate([np.zeros(20), np.linspace(0.0, 0.34, 100), np.full(20, 0.34)])
+    stance = np.concatenate([np.ones(20), np.zeros(100), np.ones(20)]).astype(bool)
+    dpos, dvel = np.array([0.0, 0.0, 0.01]), np.array([0.5, 0.0, 0.02])
+    cycles = run_with_late_stance(heights, stance, 99, 30, dpos, dvel, 0.2)
     assert len(cycles) == 1 and cycles[0].start_stamp_ns == 19 * 10_000_000
     held = heights[20:121].copy()                 # the swing and the closing stance sample
     held[69 - 20:99 - 20] += 0.01 - 0.02 * (99 - np.arange(69, 99)) / RATE_HZ
     features = cycles[0].features
     assert features[feature_index(['mean_height_m'])[0]] == pytest.approx(np.mean(held))
     assert features[feature_index(['max_horizontal_speed_mps'])[0]] == pytest.approx(0.5)
+
+
+def test_a_late_stance_on_level_ground_closes_the_cycle_there():
+    # The same swing on level ground, each stride's foot lifted 0.1 m: the late stance at
+    # sample 69 closes a cycle there; the next one starts from it, its heights from its
+    # corrected height; with no slope allowed the swing stays one cycle.
+    lift = 0.1 * np.sin(np.linspace(0.0, 2.0 * np.pi, 100)) ** 2
+    heights = np.concatenate([np.zeros(20), lift, np.zeros(20)])
+    stance = np.concatenate([np.ones(20), np.zeros(100), np.ones(20)]).astype(bool)
+    dpos, dvel = np.array([0.02, 0.0, 0.01]), np.array([0.1, 0.0, 0.02])
+    first, second = run_with_late_stance(heights, stance, 99, 30, dpos, dvel, 0.2)
+    assert (first.start_stamp_ns, first.stamp_ns) == (19 * 10_000_000, 69 * 10_000_000)
+    assert (second.start_stamp_ns, second.stamp_ns) == (69 * 10_000_000, 120 * 10_000_000)
+    correction = dpos - dvel * ((99 - np.arange(69, 99)) / RATE_HZ)[:, None]
+    assert first.pos_n == pytest.approx([0.69 + correction[0][0], 0.0,
+                                         heights[69] + correction[0][2]])
+    corrected = heights[69:121].copy()
+    corrected[:30] += correction[:, 2]
+    mean_height = feature_index(['mean_height_m'])[0]
+    assert second.features[mean_height] == pytest.approx(np.mean(corrected[1:] - corrected[0]))
+    assert len(run_with_late_stance(heights, stance, 99, 30, dpos, dvel, 0.0)) == 1
+
+
+@pytest.mark.parametrize('rise_m, cycles', [(0.0, 3), (0.34, 2)])
+def test_a_late_stance_after_a_stair_stride_closes_no_cycle(rise_m, cycles):
+    # A first stride 0.5 m long that rises rise_m, then the level two-stride swing above with
+    # its late stance: closed after a level stride, not after a stair stride (the foot of a
+    # flight, where HuGaDB's cut cycles were called wrong).
+    lift = 0.1 * np.sin(np.linspace(0.0, 2.0 * np.pi, 100)) ** 2
+    heights = np.concatenate([np.zeros(20), np.linspace(0.0, rise_m, 50), np.full(20, rise_m),
+                              rise_m + lift, np.full(20, rise_m)])
+    stance = np.concatenate([np.ones(20), np.zeros(50), np.ones(20), np.zeros(100),
+                             np.ones(20)]).astype(bool)
+    found = run_with_late_stance(heights, stance, 169, 30, np.zeros(3), np.zeros(3), 0.2)
+    assert len(found) == cycles
 
 
 def test_a_late_stance_outside_a_swing_or_the_held_samples_corrects_nothing():
@@ -113,7 +156,7 @@ def test_a_late_stance_outside_a_swing_or_the_held_samples_corrects_nothing():
             closed = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]),
                                       np.eye(3), np.zeros(3), np.zeros(3), np.zeros(3))
             if k in late_at:
-                segmenter.correct_since(late_at[k], np.ones(3), np.ones(3))
+                assert segmenter.late_stance(late_at[k], np.ones(3), np.ones(3), 0.0) is None
             if closed is not None:
                 return closed.features
     plain = cycle({})

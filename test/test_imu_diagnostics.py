@@ -43,7 +43,7 @@ def test_levels_and_rates_are_over_the_period():
     _feed(gate, 100)
     status.samples, status.stance_samples = 100, 40
     status.zaru_samples, status.rail_filled_samples, status.relaxed_stances = 12, 3, 7
-    status.late_stances = 2
+    status.late_stances, status.late_cycles = 2, 1
     second = periods.close(3 * SECOND_NS, 100, gate, status)
     assert second.period_s == 2.0 and second.received == 100
     ok = _input(second, gate, status, 100)
@@ -55,7 +55,8 @@ def test_levels_and_rates_are_over_the_period():
     assert nav.level == DiagnosticStatus.WARN and nav.message == 'waiting for the first stance'
     assert nav_values['stance_fraction'] == '0.4' and nav_values['x'] == '1'
     assert (nav_values['zaru_samples'], nav_values['rail_filled_samples'],
-            nav_values['relaxed_stances'], nav_values['late_stances']) == ('12', '3', '7', '2')
+            nav_values['relaxed_stances'], nav_values['late_stances'],
+            nav_values['late_cycles']) == ('12', '3', '7', '2', '1')
 
     # 98 samples navigated and 2 lost in transit in this period: 2 % lost
     status.samples, status.missing_samples = 198, 2

@@ -279,12 +279,25 @@ def test_the_gate_finds_the_strides_shoe_merges_on_a_real_brisk_walk_and_counts_
 
 
 @pytest.mark.parametrize('number', [34, 38])
-def test_late_stances_find_the_stances_no_stance_rule_finds_on_real_walks_and_cut_no_cycle(number):
+def test_late_stances_find_the_strides_no_stance_rule_finds_on_real_walks_and_close_them(number):
     # gdin walks 34 (24 strides) and 38 (60): measured 23 and 57 cycles with relaxed stances
     # alone (a gentle first step, and on 38 two stances too shaky for a relaxed one); the late
-    # stances find those 1 and 3, apply their ZUPTs late and leave the cycles as they were.
+    # stances find those 1 and 3, apply their ZUPTs late and, on this level ground, close a
+    # cycle at each; with no slope allowed they close none.
     walk = gdin_walk(number)
     without, status_without = gdin_cycles(walk, StrideGateParams(late_stances=False))
     with_late, status = gdin_cycles(walk, StrideGateParams(late_stances=True))
-    assert with_late == without < walk.n_strides and status_without.late_stances == 0
-    assert status.late_stances == walk.n_strides - without
+    kept, status_kept = gdin_cycles(walk, StrideGateParams(late_max_slope=0.0))
+    assert without < walk.n_strides and status_without.late_stances == 0
+    assert with_late == walk.n_strides
+    assert status.late_stances == status.late_cycles == walk.n_strides - without
+    assert kept == without and status_kept.late_stances == status.late_stances
+    assert status_kept.late_cycles == 0
+
+
+def test_late_stances_close_every_stride_of_a_run_no_stance_stills():
+    # gdin walk 35: a 3 s run (about 5 strides) with no stance, its gyro at the rail; measured
+    # 24 of 28 strides as cycles without the cut, one 14.6 m cycle over the run.
+    walk = gdin_walk(35)
+    cycles, status = gdin_cycles(walk, StrideGateParams())
+    assert cycles == walk.n_strides and status.late_cycles == 4

@@ -172,6 +172,11 @@ def max_relative_pitch(up_b: np.ndarray, up_b_stance: np.ndarray,
                  - foot_inclination(up_b_stance, forward_b))
 
 
+def slope(displacement_n: np.ndarray) -> float:
+    """Return a stride's slope |dh| / run, its height change over its horizontal length."""
+    return abs(displacement_n[2]) / max(1e-9, math.hypot(displacement_n[0], displacement_n[1]))
+
+
 def horizontal_direction_b(displacement_n: np.ndarray, C_nb: np.ndarray):
     """
     Return the unit horizontal direction of a displacement in the body frame, or None.
@@ -239,7 +244,10 @@ class GaitSegmenter:
         self._up_b = []
         self._motion = []
         self._stamps_ns = []
+        self._positions = []
+        self._attitudes = []
         self._gap = False
+        self._last_slope = 0.0         # |dh| / run of the last cycle closed
 
     def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
                acc_b: np.ndarray, gyr_b: np.ndarray, vel_n: np.ndarray, gap: bool = False):
@@ -271,10 +279,8 @@ class GaitSegmenter:
             return None
         if not self._in_swing:
             self._in_swing = True
-            self._heights.clear()
-            self._up_b.clear()
-            self._motion.clear()
-            self._stamps_ns.clear()
+            for values in self._held():
+                values.clear()
             self._gap = False
         self._gap = self._gap or gap
         if len(self._heights) < self._max_samples:
@@ -282,6 +288,8 @@ class GaitSegmenter:
             self._up_b.append(C_nb[2, :])
             self._motion.append(np.concatenate((acc_b, gyr_b, vel_n)))
             self._stamps_ns.append(stamp_ns)
+            self._positions.append(pos_n)
+            self._attitudes.append(C_nb)
         if not stance:
             return None
         self._in_swing = False
@@ -289,28 +297,57 @@ class GaitSegmenter:
         self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
         return cycle
 
-    def correct_since(self, age: int, dpos_n: np.ndarray, dvel_n: np.ndarray):
+    def late_stance(self, age: int, dpos_n: np.ndarray, dvel_n: np.ndarray,
+                    max_slope: float):
         """
-        Carry a late stance's ZUPT back to the swing's samples since it, ``age`` samples ago.
+        Take a stance found after the fact, ``age`` samples ago; return the cycle it closes.
 
-        The ZUPT, applied at the last sample, corrected the position by ``dpos_n`` and the
+        Its ZUPT, applied at the last sample, corrected the position by ``dpos_n`` and the
         velocity by ``dvel_n``; with the velocity error constant since the late stance, sample j
-        is corrected by dpos_n - dvel_n (t_last - t_j) in position (its height) and dvel_n in
-        velocity (the last sample's are already). Nothing outside a swing, nor once the swing
-        has outgrown the samples held (its cycle will be invalid).
+        is corrected by dpos_n - dvel_n (t_last - t_j) in position and dvel_n in velocity (the
+        last sample's are already). The stance closes the cycle when the foot reached it along
+        a slope |dh| / run of at most ``max_slope`` and the cycle before also kept to it (level
+        ground, a ramp): the samples after it begin the next swing. Elsewhere (on stairs and
+        where they end) the cycle runs on to the next stance: the stair classifier calls
+        HuGaDB's stair strides cut at late stances level (README, "Late stances"). Returns the
+        GaitCycle or None (not cut; outside a swing; a swing that has outgrown the samples
+        held, whose cycle will be invalid; or a cut part too short to be a stride).
         """
         end = len(self._stamps_ns) - 1 - int(age)
         if not self._in_swing or end < 0 or len(self._stamps_ns) >= self._max_samples:
-            return
+            return None
         last_ns = self._stamps_ns[-1]
         for j in range(end, len(self._stamps_ns) - 1):
-            self._heights[j] += dpos_n[2] - dvel_n[2] * ((last_ns - self._stamps_ns[j]) * 1e-9)
+            correction = dpos_n - dvel_n * ((last_ns - self._stamps_ns[j]) * 1e-9)
+            self._positions[j] = self._positions[j] + correction
+            self._heights[j] += correction[2]
             self._motion[j] = np.concatenate((self._motion[j][:6], self._motion[j][6:] + dvel_n))
+        stamp_ns, pos_n, C_nb = self._stamps_ns[end], self._positions[end], self._attitudes[end]
+        end_height = self._heights[end]
+        if not (slope(pos_n - self._stance_pos_n) <= max_slope
+                and self._last_slope <= max_slope):
+            return None
+        after = slice(end + 1, None)
+        heights = [h - end_height for h in self._heights[after]]
+        held = [values[after] for values in self._held()]
+        for values in self._held():
+            del values[after]
+        cycle = self._close(stamp_ns, pos_n)
+        self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
+        (self._heights, self._up_b, self._motion, self._stamps_ns, self._positions,
+         self._attitudes) = (heights, *held[1:])
+        return cycle
+
+    def _held(self):
+        """Return the per-sample lists of the swing, heights first."""
+        return (self._heights, self._up_b, self._motion, self._stamps_ns, self._positions,
+                self._attitudes)
 
     def _close(self, stamp_ns, pos_n):
         swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
         if swing_s < self._params.min_swing_s:
             return None
+        self._last_slope = slope(pos_n - self._stance_pos_n)
         features = np.empty(N_FEATURES)
         features[:4] = height_features(np.asarray(self._heights))
         forward_b = self._mounting.forward_for_cycle(pos_n - self._stance_pos_n,

@@ -155,6 +155,7 @@ class NavigatorStatus:
     waiting_zupts: int = 0         # young stance samples whose implausible ZUPT waited
     relaxed_stances: int = 0       # stances the stride gate found where SHOE saw none
     late_stances: int = 0          # stances it found after the fact (their ZUPT late)
+    late_cycles: int = 0           # cycles those closed (on level ground)
     gaps: int = 0
     missing_samples: int = 0
     cycles: int = 0
@@ -410,11 +411,17 @@ class FootNavigator:
         # S4, eq. (8)-(12): gait cycles from the corrected track, cut at the gait stances.
         cycle = self._gait.update(stamp_ns, flags & 4 == 4, pos_n, self._C_nb.copy(), acc_b, gyr_b,
                                   self._nominal[VEL_N], flags & 2 == 2)
+        late_cycle = None
         if flags & 8 == 8:
-            # A stance the gate found after the fact: its late ZUPT reaches the cycle's samples.
+            # A stance the gate found after the fact: its late ZUPT reaches the cycle's samples,
+            # and on level ground it closes the cycle there.
             gate = self._gate_state
-            self._gait.correct_since(int(gate[LATE_AGE]), gate[LATE_DPOS], gate[LATE_DVEL])
+            late_cycle = self._gait.late_stance(int(gate[LATE_AGE]), gate[LATE_DPOS],
+                                                gate[LATE_DVEL],
+                                                self.params.stride_gate.late_max_slope)
             status.late_stances += 1
+            status.late_cycles += late_cycle is not None
+            cycle = cycle if late_cycle is None else late_cycle
         if cycle is not None:
             status.cycles += 1
             status.invalid_cycles += not cycle.valid
@@ -423,7 +430,8 @@ class FootNavigator:
                                                               ekf.ATT.start + 2]))
             if self._map is not None and not self._map.fixed:
                 cycle = self._align_map(cycle)
-            else:
+            elif late_cycle is None:
+                # The aids measure at a stance, which a late one no longer is.
                 self._aid_heading()
         # The nominal state, not pos_n: the filter may have been rotated into the map frame.
         return self._map_point(TrackPoint(stamp_ns, self._nominal[POS_N].copy(),

@@ -246,7 +246,7 @@ _DOCS = {
                                       'm/s.', 1e-4, 10.0, _READ_ONLY),
     'stride_gate.late_stances': ('A second swing with no stance since the first makes the '
                                  'lowest statistic between them a stance, its ZUPT applied '
-                                 'late (the cycle is not cut).', None, None, _READ_ONLY),
+                                 'late.', None, None, _READ_ONLY),
     'stride_gate.late_balance': ('... when no stance follows it within this fraction of the '
                                  'time from the last stance to it (a dip mid-swing is followed '
                                  'by a stance sooner).', 0.0, 2.0, _READ_ONLY),
@@ -256,6 +256,11 @@ _DOCS = {
     'stride_gate.late_max_nis': ("... and when its velocity is plausible as the filter's "
                                  'velocity error: NIS of its ZUPT at most this.', 0.0, 1e12,
                                  _READ_ONLY),
+    'stride_gate.late_max_slope': ('A late stance closes its gait cycle when the foot reached '
+                                   'it along a slope |dh| / run of at most this, as in the '
+                                   'cycle before (level ground, a ramp; stairs climb 0.5-0.8); '
+                                   'else the cycle runs on to the next stance.', 0.0, 10.0,
+                                   _READ_ONLY),
     # EkfParams
     'ekf.acc_noise_mps2_sqrt_hz': ('Accelerometer white-noise density, m/s^2/sqrt(Hz).', 1e-6,
                                    10.0, _READ_ONLY),

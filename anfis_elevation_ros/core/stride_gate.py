@@ -48,9 +48,10 @@ through zero for a few samples) for a stance. The gate uses what every stride ha
   late stances, 424-952 at the dips of long simulated stair swings, where the foot moves at
   1.5-2.5 m/s). The gate reports it then, with its age (``LATE_AGE``); the navigator applies
   the velocity there as a ZUPT late (``navigation_step``) and carries its correction back to
-  the cycle's samples since then (``GaitSegmenter.correct_since``). The gait cycle is not cut
-  there: HuGaDB's cycles cut at late stances were brisk stair strides the classifier calls
-  level (README, "Late stances").
+  the cycle's samples since then (``GaitSegmenter.late_stance``). It closes the gait cycle
+  only on level ground (a slope of at most ``late_max_slope`` from the cycle's stance, and
+  in the cycle before): cut on stairs, HuGaDB's stair cycles were brisk stair strides the
+  classifier calls level (README, "Late stances").
 
 ``stride_gate_update`` is the per-sample step (compiled, called by the navigator's kernel);
 ``samples_to_relaxed_stance`` tells the live node when a relaxed stance may be due.
@@ -111,6 +112,10 @@ class StrideGateParams:
     late_sigma_mps : standard deviation of a late stance's ZUPT (the velocity error grows by
         about g x 0.01 rad x 0.45 s between the late stance and the sample that finds it).
     late_max_nis : largest normalised innovation squared of a late stance's ZUPT.
+    late_max_slope : a late stance closes its gait cycle when the foot reached it along a slope
+        |dh| / run of at most this, and the cycle before kept to it too
+        (``GaitSegmenter.late_stance``; 0.2: a ramp is at most 1:12, a stair 0.5-0.8); 0
+        closes none.
 
     """
 
@@ -130,6 +135,7 @@ class StrideGateParams:
     late_balance: float = 0.5
     late_sigma_mps: float = 0.05
     late_max_nis: float = 200.0
+    late_max_slope: float = 0.2
 
     def __post_init__(self):
         for name, low, high in (('relaxed_factor', 1.0, 100.0),
@@ -141,7 +147,8 @@ class StrideGateParams:
                                 ('relaxed_sigma_mps', 1e-4, 10.0),
                                 ('late_balance', 0.0, 2.0),
                                 ('late_sigma_mps', 1e-4, 10.0),
-                                ('late_max_nis', 0.0, 1e12)):
+                                ('late_max_nis', 0.0, 1e12),
+                                ('late_max_slope', 0.0, 10.0)):
             check_range(f'stride gate {name}', getattr(self, name), low, high)
 
     def config(self, rate_hz: float) -> np.ndarray:

@@ -148,6 +148,7 @@ def navigator_status(name: str, hardware_id: str, period: PeriodFigures, status,
         'invalid_cycles': status.invalid_cycles, 'gaps': status.gaps,
         'zaru_samples': status.zaru_samples, 'waiting_zupts': status.waiting_zupts,
         'relaxed_stances': status.relaxed_stances, 'late_stances': status.late_stances,
+        'late_cycles': status.late_cycles,
         'rail_filled_samples': status.rail_filled_samples,
         'last_nis': status.last_nis, 'pos_sigma_m': status.pos_sigma_m, **node_values}
     return diagnostic_status(f'{name}: foot navigator', level, message, hardware_id, values)
