@@ -460,7 +460,7 @@ class FootNavigator:
             nominal[Q_NB] = quat_multiply(self._map_quat(), nominal[Q_NB])
             self._P[:, :] = rotate_error_covariance(self._P, self._map.psi_rad)
             self._C_nb[:, :] = quat_to_dcm(nominal[Q_NB])
-            return replace(cycle, pos_n=nominal[POS_N].copy())
+        # The cycle's own position: a late stance's cycle closed samples before this one.
         return replace(cycle, pos_n=self._map.to_map(cycle.pos_n))
 
     def _aid_heading(self):
