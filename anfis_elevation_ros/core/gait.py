@@ -240,7 +240,6 @@ class GaitSegmenter:
         self._stance_stamp_ns = None
         self._stance_pos_n = None
         self._stance_C_nb = None
-        self._heights = []
         self._up_b = []
         self._motion = []
         self._stamps_ns = []
@@ -283,8 +282,7 @@ class GaitSegmenter:
                 values.clear()
             self._gap = False
         self._gap = self._gap or gap
-        if len(self._heights) < self._max_samples:
-            self._heights.append(pos_n[2] - self._stance_pos_n[2])
+        if len(self._stamps_ns) < self._max_samples:
             self._up_b.append(C_nb[2, :])
             self._motion.append(np.concatenate((acc_b, gyr_b, vel_n)))
             self._stamps_ns.append(stamp_ns)
@@ -320,28 +318,23 @@ class GaitSegmenter:
         for j in range(end, len(self._stamps_ns) - 1):
             correction = dpos_n - dvel_n * ((last_ns - self._stamps_ns[j]) * 1e-9)
             self._positions[j] = self._positions[j] + correction
-            self._heights[j] += correction[2]
             self._motion[j] = np.concatenate((self._motion[j][:6], self._motion[j][6:] + dvel_n))
         stamp_ns, pos_n, C_nb = self._stamps_ns[end], self._positions[end], self._attitudes[end]
-        end_height = self._heights[end]
         if not (slope(pos_n - self._stance_pos_n) <= max_slope
                 and self._last_slope <= max_slope):
             return None
         after = slice(end + 1, None)
-        heights = [h - end_height for h in self._heights[after]]
         held = [values[after] for values in self._held()]
         for values in self._held():
             del values[after]
         cycle = self._close(stamp_ns, pos_n)
         self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
-        (self._heights, self._up_b, self._motion, self._stamps_ns, self._positions,
-         self._attitudes) = (heights, *held[1:])
+        self._up_b, self._motion, self._stamps_ns, self._positions, self._attitudes = held
         return cycle
 
     def _held(self):
-        """Return the per-sample lists of the swing, heights first."""
-        return (self._heights, self._up_b, self._motion, self._stamps_ns, self._positions,
-                self._attitudes)
+        """Return the per-sample lists of the swing."""
+        return self._up_b, self._motion, self._stamps_ns, self._positions, self._attitudes
 
     def _close(self, stamp_ns, pos_n):
         swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
@@ -349,7 +342,8 @@ class GaitSegmenter:
             return None
         self._last_slope = slope(pos_n - self._stance_pos_n)
         features = np.empty(N_FEATURES)
-        features[:4] = height_features(np.asarray(self._heights))
+        # Heights above the stance, from the swing's positions (a late stance corrects them).
+        features[:4] = height_features(np.asarray(self._positions)[:, 2] - self._stance_pos_n[2])
         forward_b = self._mounting.forward_for_cycle(pos_n - self._stance_pos_n,
                                                      self._stance_C_nb)
         if forward_b is None:
