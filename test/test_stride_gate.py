@@ -44,12 +44,13 @@ def run(statistics, shoe_stance, params=PARAMS):
     return flags, state
 
 
-def run_with_ages(statistics, shoe_stance, params=PARAMS, vel_n=np.zeros(3), P=P_SURE):
+def run_with_ages(statistics, shoe_stance, params=PARAMS, vel_n=np.zeros(3), P=P_SURE,
+                  young_max_nis=600.0):
     """Return the flags, the sample each late stance names (-1 elsewhere), the final state."""
     state, config = initial_state(), params.config(RATE_HZ)
     flags, late = [], []
     for k, (t, s) in enumerate(zip(statistics, shoe_stance)):
-        flags.append(stride_gate_update(state, config, t, GAMMA, s, vel_n, P))
+        flags.append(stride_gate_update(state, config, t, GAMMA, s, vel_n, P, young_max_nis))
         late.append(k - int(state[LATE_AGE]) if flags[-1] & 8 else -1)
     return np.array(flags), np.array(late), state
 
@@ -107,12 +108,32 @@ def test_a_stance_above_gamma_is_found_at_its_stillest_sample_after_confirmation
     assert state[PERIOD_S] == pytest.approx(1.0)   # strides of 1 s
 
 
+def test_a_relaxed_stance_whose_zupt_is_implausible_is_no_stance():
+    # Random walk 524: a foot dropping down a 4-riser stride at 2.3 m/s without turning looks
+    # still; as a young SHOE stance, its ZUPT's NIS (here 2^2 / (0.05^2 + 0.02^2) = 1379)
+    # refuses it, and the refusal is flagged (16) for the diagnostics. The refused minimum
+    # stays the gate's: the next strides' stances, no lower, are no relaxed stances either.
+    statistics = np.concatenate([np.full(50, 1e5)] + [stride(2e7) for _ in range(4)])
+    falling = np.array([0.0, 0.0, -2.0])
+    flags, _, _ = run_with_ages(statistics, statistics < GAMMA, vel_n=falling)
+    assert not np.any(flags & 4) and np.count_nonzero(flags == 16) == 1
+    # A lower statistic after the refusal is examined again (and refused again at that speed).
+    lower = np.concatenate([statistics, stride(1.5e7)])
+    flags, _, _ = run_with_ages(lower, lower < GAMMA, vel_n=np.array([0.0, 0.0, -2.0]))
+    assert np.count_nonzero(flags == 16) == 2 and not np.any(flags & 4)
+    # Slower (NIS 31), or with the young-stance rule off (0), it is a stance.
+    for vel_n, young_max_nis in ((np.array([0.0, 0.0, -0.3]), 600.0), (falling, 0.0)):
+        flags, _, _ = run_with_ages(statistics, statistics < GAMMA, vel_n=vel_n,
+                                    young_max_nis=young_max_nis)
+        assert np.count_nonzero(flags & 4) == 4 and not np.any(flags & 16)
+
+
 def test_the_relaxed_stance_is_foreseen_by_a_countdown():
     statistics = np.concatenate([np.full(50, 1e5)] + [stride(2e7) for _ in range(2)])
     state, config = initial_state(), PARAMS.config(RATE_HZ)
     foreseen, relaxed = [], []
     for k, t in enumerate(statistics):
-        if stride_gate_update(state, config, t, GAMMA, t < GAMMA, np.zeros(3), P_SURE) & 4:
+        if stride_gate_update(state, config, t, GAMMA, t < GAMMA, np.zeros(3), P_SURE, 600.0) & 4:
             relaxed.append(k)
         foreseen.append(samples_to_relaxed_stance(state, config, GAMMA))
     assert len(relaxed) == 2

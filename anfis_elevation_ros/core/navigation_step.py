@@ -113,7 +113,8 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
 
     # S2, eq. (4): zero-velocity decision (NaN while the window fills: not still), a young
     # stance's implausible ZUPT held back (not after a gap: the INS velocity is no evidence
-    # then), then the gait's structure (one stance between two swings).
+    # then), then the gait's structure (one stance between two swings; its relaxed stances
+    # are young stances too).
     statistic = shoe_update(shoe_samples, shoe_sums, shoe_count, shoe_config, acc_b,
                             sensor_gyr_b)
     counts[STILL_SAMPLES] = counts[STILL_SAMPLES] + 1 if statistic < scalars[THRESHOLD] else 0
@@ -123,11 +124,15 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
             scalars[YOUNG_MAX_NIS]):
         still = False
         counts[WAITING_ZUPTS] += 1
+    young_max_nis = scalars[YOUNG_MAX_NIS] \
+        if counts[RELEVEL] == 0 and counts[YOUNG_STANCE_SAMPLES] > 0 else 0.0
     gate = stride_gate_update(gate_state, gate_config, statistic, scalars[THRESHOLD], still,
-                              vel_n, P)
+                              vel_n, P, young_max_nis)
     stance = gate & 1 == 1
     if gate & 4 == 4:
         counts[RELAXED_STANCES] += 1
+    if gate & 16 == 16:
+        counts[WAITING_ZUPTS] += 1
     if scalars[ADAPTIVE] != 0.0 and intensity_update(
             peaks, intensity_state, intensity_counts,
             math.sqrt(sensor_gyr_b[0] ** 2 + sensor_gyr_b[1] ** 2 + sensor_gyr_b[2] ** 2)):

@@ -35,7 +35,9 @@ through zero for a few samples) for a stance. The gate uses what every stride ha
   confirming sample below ``current_factor`` x the bound. The ZUPT is applied at the
   confirming sample, ``confirm_s`` after the minimum: a sample that is itself almost still (a
   brief dip just before the heel strikes is followed by the impact, not by a stance); nothing
-  waits, so live and replay stay identical.
+  waits, so live and replay stay identical. A relaxed stance is a young stance: with an
+  implausible ZUPT (NIS above ``zupt.young_stance_max_nis``) it is none (a foot dropping
+  down a stair without turning, 0.4 s before it lands).
 - late stance: a stance too shaky for either (a brisk or running stride never stills the foot,
   a gentle first step meets a bound still at its floor) leaves the gate armed into the next
   swing. When that swing has armed (``swing_arm_s`` above ``swing_level``) with no stance
@@ -181,14 +183,21 @@ def initial_state() -> np.ndarray:
 
 @jit
 def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, gamma: float,
-                       shoe_stance: bool, vel_n: np.ndarray, P: np.ndarray) -> int:
+                       shoe_stance: bool, vel_n: np.ndarray, P: np.ndarray,
+                       young_max_nis: float) -> int:
     """
     One sample through the gate: 1 for a stance sample, plus 2 for a gait stance, plus 4 relaxed.
 
     Or 8 alone for a late stance, ``state[LATE_AGE]`` samples before this one (no ZUPT there;
     the navigator applies ``state[CANDIDATE_VEL]``, the velocity there, as its ZUPT now). A
     candidate whose ZUPT is implausible, NIS = v^T (H P H^T + R)^-1 v above ``late_max_nis``
-    (``ekf.zupt_nis``), was no stance.
+    (``ekf.zupt_nis``), was no stance. Or 16 alone for a relaxed stance refused: a stance of
+    one sample is a young stance, and as a young SHOE stance (``zupt.young_stance_waits``) it
+    is no stance when its ZUPT's NIS, at ``relaxed_sigma_mps``, is above ``young_max_nis``
+    (0: no test): a foot dropping down a stair at constant velocity without turning looks
+    still to an IMU (random walk 524: 2.0-2.4 m/s, 0.4 s before it landed). The refused
+    minimum stays the gate's: only a lower statistic, a SHOE stance or a late stance ends the
+    swing (searching on from the next sample found a stance later in the same fall).
 
     A gait stance is a stance that opens a gait cycle (armed gate) or continues the last stance
     (within ``max_break_s``); any other stance still gets its ZUPT but does not cut the
@@ -210,7 +219,10 @@ def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, 
     vel_n : (3,) array
         The INS velocity at the sample (kept at the lowest statistic: a late stance's ZUPT).
     P : (15, 15) array
-        The error covariance at the sample (a late stance's plausibility).
+        The error covariance at the sample (a late or relaxed stance's plausibility).
+    young_max_nis : float
+        ``ZuptParams.young_stance_max_nis``; 0 when the young-stance rule is off or the INS
+        velocity is no evidence (after a gap).
 
     """
     if config[ENABLED] == 0.0:
@@ -240,6 +252,9 @@ def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, 
         bound = max(config[RELAXED_FACTOR] * gamma, config[RELAXED_FLOOR])
         stance = state[MIN_AGE] == config[CONFIRM_SAMPLES] and state[RUN_MIN] < bound \
             and statistic < config[CURRENT_FACTOR] * bound
+        if stance and young_max_nis > 0.0 \
+                and zupt_nis(P, vel_n, config[RELAXED_SIGMA]) > young_max_nis:
+            return 16
         relaxed = 4 if stance else 0
         if not stance and state[CANDIDATE_AGE] < 0.0 and state[SWING_RUN] >= config[ARM_SAMPLES] \
                 and state[MIN_AGE] >= state[SWING_RUN] and state[RUN_MIN] < config[SWING_LEVEL]:
