@@ -37,7 +37,7 @@ through zero for a few samples) for a stance. The gate uses what every stride ha
   brief dip just before the heel strikes is followed by the impact, not by a stance); nothing
   waits, so live and replay stay identical. A relaxed stance is a young stance: with an
   implausible ZUPT (NIS above ``zupt.young_stance_max_nis``) it is none (a foot dropping
-  down a stair without turning, 0.4 s before it lands).
+  down a stair without turning, 0.3 s before it lands).
 - late stance: a stance too shaky for either (a brisk or running stride never stills the foot,
   a gentle first step meets a bound still at its floor) leaves the gate armed into the next
   swing. When that swing has armed (``swing_arm_s`` above ``swing_level``) with no stance
@@ -195,7 +195,7 @@ def stride_gate_update(state: np.ndarray, config: np.ndarray, statistic: float, 
     one sample is a young stance, and as a young SHOE stance (``zupt.young_stance_waits``) it
     is no stance when its ZUPT's NIS, at ``relaxed_sigma_mps``, is above ``young_max_nis``
     (0: no test): a foot dropping down a stair at constant velocity without turning looks
-    still to an IMU (random walk 524: 2.0-2.4 m/s, 0.4 s before it landed). The refused
+    still to an IMU (random walk 524: 2.0-2.4 m/s, 0.3 s before it landed). The refused
     minimum stays the gate's: only a lower statistic, a SHOE stance or a late stance ends the
     swing (searching on from the next sample found a stance later in the same fall).
 
