@@ -152,7 +152,8 @@ class NavigatorStatus:
     rail_filled_samples: int = 0   # clipped gyro samples rebuilt (core/gyro_rail.py)
     stance_samples: int = 0
     zaru_samples: int = 0
-    waiting_zupts: int = 0         # young stances (SHOE or relaxed) whose implausible ZUPT waited
+    waiting_zupts: int = 0         # young SHOE stance samples whose implausible ZUPT waited, and
+    #                                relaxed stances refused for it
     relaxed_stances: int = 0       # stances the stride gate found where SHOE saw none
     late_stances: int = 0          # stances it found after the fact (their ZUPT late)
     late_cycles: int = 0           # cycles those closed (on level ground)
