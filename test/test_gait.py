@@ -20,7 +20,7 @@ from anfis_elevation_ros.core.errors import InputError
 from anfis_elevation_ros.core.frames import rpy_to_dcm
 from anfis_elevation_ros.core.gait import (
     feature_index, foot_inclination, GaitParams, GaitSegmenter, height_features,
-    max_relative_pitch, MountingEstimator)
+    landing_height_correction, max_relative_pitch, MountingEstimator)
 import numpy as np
 import pytest
 
@@ -49,13 +49,14 @@ def test_pitch_is_relative_to_stance_so_a_tilted_mount_does_not_bias_it():
     assert max_relative_pitch(swing_up_b, stance_up_b, forward_b) == pytest.approx(0.35)
 
 
-def run_segmenter(heights, stance, params=GaitParams(), gaps=None):
+def run_segmenter(heights, stance, params=GaitParams(), gaps=None, zupt_dx=None):
     segmenter = GaitSegmenter(params, RATE_HZ, MountingEstimator(params, np.eye(3)))
     cycles = []
     for k, (h, still) in enumerate(zip(heights, stance)):
         cycle = segmenter.update(k * 10_000_000, still, np.array([0.01 * k, 0.0, h]), np.eye(3),
                                  np.array([0.0, 0.0, 9.81]), np.zeros(3), np.zeros(3),
-                                 gap=bool(gaps is not None and gaps[k]))
+                                 gap=bool(gaps is not None and gaps[k]),
+                                 zupt_dx=None if zupt_dx is None else zupt_dx[k])
         if cycle is not None:
             cycles.append(cycle)
     return cycles
@@ -77,6 +78,30 @@ def test_a_stride_makes_one_cycle_closed_by_its_first_stance_sample():
     assert cycle.valid and cycle.height_change_m == pytest.approx(0.17)
     assert cycle.features[3] == pytest.approx(0.17)
     assert np.allclose(cycle.pos_n, [0.7, 0.0, 0.17])
+
+
+def test_landing_height_correction_keeps_what_the_swing_explains():
+    # Walk 519 (consumer): +0.388 m at a landing whose vertical velocity moved 0.011 m/s.
+    assert landing_height_correction(0.388, 0.011, 0.81) == pytest.approx(0.011 * 0.81)
+    assert landing_height_correction(0.388, -0.011, 0.81) == pytest.approx(0.011 * 0.81)
+    assert landing_height_correction(-0.3, 0.1, 1.0) == pytest.approx(-0.1)
+    assert landing_height_correction(-0.05, 0.2, 0.5) == pytest.approx(-0.05)
+    assert landing_height_correction(0.02, 0.0, 0.5) == 0.0
+
+
+@pytest.mark.parametrize('dpos_z, dvel_z, rise_m, height_change_m', [
+    (0.388, 0.011, 0.0, 0.011 * 0.51),   # it takes back 0.39 m from before: a level stride
+    (0.03, 0.12, 0.17, 0.2),             # the swing's own error corrected: all of it counts
+])
+def test_a_landing_counts_only_the_correction_its_swing_explains(dpos_z, dvel_z, rise_m,
+                                                                 height_change_m):
+    heights, stance = step_up(50, rise_m)
+    heights[70:] += dpos_z       # the closing sample's ZUPT moved the track by dpos_z
+    zupt_dx = np.zeros((len(heights), 6))
+    zupt_dx[70] = [0.0, 0.0, dpos_z, 0.0, 0.0, dvel_z]
+    cycle, = run_segmenter(heights, stance, zupt_dx=zupt_dx)     # a swing of 0.51 s
+    assert cycle.height_change_m == pytest.approx(height_change_m)
+    assert cycle.pos_n[2] == pytest.approx(rise_m + dpos_z)    # the absolute height moves
 
 
 def run_with_late_stance(heights, stance, late_at, age, dpos, dvel, max_slope):

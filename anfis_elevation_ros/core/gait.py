@@ -26,6 +26,10 @@ closing sample included), the five features are
     (11) max height excursion   max_j |h_j|
     (12) max pitch         max_j (theta_j - theta_0)
 
+h_n is the closing sample's height with its landing ZUPT's height correction kept to the part
+the swing's own vertical velocity error explains (:func:`landing_height_correction`): the rest
+takes back height error from before the swing, which no stride climbed.
+
 where theta is the inclination of the foot's forward axis above the horizontal (toe up
 positive), so the pitch is relative to the stance attitude and a tilted mounting cannot bias
 it. The foot's forward axis in the IMU frame comes from a mounting rotation, or (automatic
@@ -125,7 +129,7 @@ class GaitCycle:
 
     @property
     def height_change_m(self) -> float:
-        """Raw EKF height change over the cycle, eq. (10)."""
+        """Raw EKF height change over the cycle, eq. (10) with the landing's (10a)."""
         return float(self.features[HEIGHT_CHANGE])
 
 
@@ -145,6 +149,23 @@ def height_features(height_m: np.ndarray) -> np.ndarray:
 
     """
     return np.array([height_m.mean(), height_m.std(), height_m[-1], np.abs(height_m).max()])
+
+
+def landing_height_correction(dpos_z_m: float, dvel_z_mps: float, swing_s: float) -> float:
+    """
+    Return the part of a landing ZUPT's height correction its swing explains, eq. (10a).
+
+        delta_h = clip(delta_p_z, -|delta_v_z| T, |delta_v_z| T)
+
+    with delta_p_z and delta_v_z the ZUPT's corrections of height and vertical velocity at the
+    sample that closes a swing of duration T. A vertical velocity error no larger than the one
+    the ZUPT measured there, held over the whole swing, moves the foot by at most |delta_v_z| T.
+    The rest of delta_p_z is height error from before the swing that the covariance's
+    correlations take back now (a consumer IMU's misalignment made observable by a stand and
+    turns on the spot): a correction of the absolute height, not a climb of this stride.
+    """
+    bound = abs(dvel_z_mps) * swing_s
+    return min(max(dpos_z_m, -bound), bound)
 
 
 def foot_inclination(up_b: np.ndarray, forward_b: np.ndarray) -> np.ndarray:
@@ -249,7 +270,8 @@ class GaitSegmenter:
         self._last_slope = 0.0         # |dh| / run of the last cycle closed
 
     def update(self, stamp_ns: int, stance: bool, pos_n: np.ndarray, C_nb: np.ndarray,
-               acc_b: np.ndarray, gyr_b: np.ndarray, vel_n: np.ndarray, gap: bool = False):
+               acc_b: np.ndarray, gyr_b: np.ndarray, vel_n: np.ndarray, gap: bool = False,
+               zupt_dx: np.ndarray = None):
         """
         Add one navigated sample; return the GaitCycle it closes, or None.
 
@@ -269,6 +291,8 @@ class GaitSegmenter:
             Corrected velocity, m/s.
         gap : bool
             True when samples are missing before this one.
+        zupt_dx : (6,) array or None
+            The sample's ZUPT correction of position (m) and velocity (m/s), None for none.
 
         """
         if stance and not self._in_swing:
@@ -291,7 +315,12 @@ class GaitSegmenter:
         if not stance:
             return None
         self._in_swing = False
-        cycle = self._close(stamp_ns, pos_n)
+        landing_excess_m = 0.0
+        if zupt_dx is not None:
+            swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
+            landing_excess_m = zupt_dx[2] - landing_height_correction(zupt_dx[2], zupt_dx[5],
+                                                                      swing_s)
+        cycle = self._close(stamp_ns, pos_n, landing_excess_m)
         self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
         return cycle
 
@@ -336,16 +365,19 @@ class GaitSegmenter:
         """Return the per-sample lists of the swing."""
         return self._up_b, self._motion, self._stamps_ns, self._positions, self._attitudes
 
-    def _close(self, stamp_ns, pos_n):
+    def _close(self, stamp_ns, pos_n, landing_excess_m=0.0):
+        """Close the cycle at the sample held last; ``landing_excess_m``: eq. (10a)'s rest."""
         swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
         if swing_s < self._params.min_swing_s:
             return None
-        self._last_slope = slope(pos_n - self._stance_pos_n)
         features = np.empty(N_FEATURES)
         # Heights above the stance, from the swing's positions (a late stance corrects them).
-        features[:4] = height_features(np.asarray(self._positions)[:, 2] - self._stance_pos_n[2])
-        forward_b = self._mounting.forward_for_cycle(pos_n - self._stance_pos_n,
-                                                     self._stance_C_nb)
+        heights_m = np.asarray(self._positions)[:, 2] - self._stance_pos_n[2]
+        heights_m[-1] -= landing_excess_m
+        features[:4] = height_features(heights_m)
+        stride_n = pos_n - self._stance_pos_n
+        self._last_slope = slope(np.array([stride_n[0], stride_n[1], heights_m[-1]]))
+        forward_b = self._mounting.forward_for_cycle(stride_n, self._stance_C_nb)
         if forward_b is None:
             # Not a single stride yet: the stance's most horizontal body axis stands in.
             up_b = self._stance_C_nb[2, :]

@@ -63,9 +63,9 @@ def attitude_at_rest(acc_mean_b: np.ndarray, yaw_rad: float) -> np.ndarray:
 
 @jit
 def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per_s, P_initial,
-                    prev_sample, C_nb_out, counts, scalars, shoe_samples, shoe_sums, shoe_count,
-                    shoe_config, peaks, intensity_state, intensity_counts, gate_state,
-                    gate_config) -> int:
+                    prev_sample, C_nb_out, zupt_dx_out, counts, scalars, shoe_samples,
+                    shoe_sums, shoe_count, shoe_config, peaks, intensity_state, intensity_counts,
+                    gate_state, gate_config) -> int:
     """
     One IMU sample through S1-S3 (after start-up): mechanisation, detector, EKF.
 
@@ -73,8 +73,9 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
     ``sensor_gyr_b``, the rate as the sensor gave it (they differ only where clipped samples
     were rebuilt, ``core/gyro_rail.py``: the stances stay where they were). Updates the arrays
     in place (layouts: the constants above, ``ShoeDetector``,
-    ``GaitIntensity`` and ``core/stride_gate.py``) and writes the corrected attitude to
-    ``C_nb_out``.
+    ``GaitIntensity`` and ``core/stride_gate.py``), writes the corrected attitude to
+    ``C_nb_out`` and the sample's ZUPT correction of position and velocity to ``zupt_dx_out``
+    (zero without a ZUPT: the gait cycles tell a landing's own correction from the rest).
 
     Returns
     -------
@@ -141,6 +142,7 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
                                                 law[3], law[4])
 
     # S3, eq. (7): ZUPT in every stance sample.
+    zupt_dx_out[:] = 0.0
     if stance:
         counts[STANCE_SAMPLES] += 1
         if counts[RELEVEL]:
@@ -155,6 +157,8 @@ def navigation_step(stamp_ns, acc_b, gyr_b, sensor_gyr_b, nominal, P, phi, Q_per
         dx, P_new, nis = ekf.zupt_correction(P, vel_n, sigma)
         P[:, :] = P_new
         scalars[LAST_NIS] = nis
+        zupt_dx_out[0:3] = dx[ekf.POS]
+        zupt_dx_out[3:6] = dx[ekf.VEL]
         q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b = ekf.apply_correction(
             q_nb, vel_n, pos_n, acc_bias_b, gyr_bias_b, dx)
         # ZARU while the foot stands still (0 disables): the gyro bias from the whole stand.

@@ -233,6 +233,7 @@ class FootNavigator:
         self._detector = None
         self._rest = None
         self._kernel_args = None
+        self._zupt_dx = np.zeros(6)    # this sample's ZUPT correction: position, velocity
 
     # -- start-up ------------------------------------------------------------------------------
 
@@ -285,7 +286,8 @@ class FootNavigator:
         self._gate_config = p.stride_gate.config(self._status.rate_hz)
         self._kernel_args = (
             self._nominal, self._P, np.eye(ekf.N_STATES), ekf.process_noise(p.ekf, 1.0),
-            ekf.initial_covariance(p.ekf), self._prev_sample, self._C_nb, self._counts,
+            ekf.initial_covariance(p.ekf), self._prev_sample, self._C_nb, self._zupt_dx,
+            self._counts,
             self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state, i.counts,
             self._gate_state, self._gate_config)
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
@@ -411,7 +413,7 @@ class FootNavigator:
         pos_n = self._nominal[POS_N].copy()
         # S4, eq. (8)-(12): gait cycles from the corrected track, cut at the gait stances.
         cycle = self._gait.update(stamp_ns, flags & 4 == 4, pos_n, self._C_nb.copy(), acc_b, gyr_b,
-                                  self._nominal[VEL_N], flags & 2 == 2)
+                                  self._nominal[VEL_N], flags & 2 == 2, self._zupt_dx)
         late_cycle = None
         if flags & 8 == 8:
             # A stance the gate found after the fact: its late ZUPT reaches the cycle's samples,
