@@ -315,12 +315,7 @@ class GaitSegmenter:
         if not stance:
             return None
         self._in_swing = False
-        landing_excess_m = 0.0
-        if zupt_dx is not None:
-            swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
-            landing_excess_m = zupt_dx[2] - landing_height_correction(zupt_dx[2], zupt_dx[5],
-                                                                      swing_s)
-        cycle = self._close(stamp_ns, pos_n, landing_excess_m)
+        cycle = self._close(stamp_ns, pos_n, zupt_dx)
         self._stance_stamp_ns, self._stance_pos_n, self._stance_C_nb = stamp_ns, pos_n, C_nb
         return cycle
 
@@ -365,15 +360,17 @@ class GaitSegmenter:
         """Return the per-sample lists of the swing."""
         return self._up_b, self._motion, self._stamps_ns, self._positions, self._attitudes
 
-    def _close(self, stamp_ns, pos_n, landing_excess_m=0.0):
-        """Close the cycle at the sample held last; ``landing_excess_m``: eq. (10a)'s rest."""
+    def _close(self, stamp_ns, pos_n, zupt_dx=None):
+        """Close the cycle at the sample held last, whose ZUPT corrected it by ``zupt_dx``."""
         swing_s = (stamp_ns - self._stance_stamp_ns) * 1e-9
         if swing_s < self._params.min_swing_s:
             return None
         features = np.empty(N_FEATURES)
         # Heights above the stance, from the swing's positions (a late stance corrects them).
         heights_m = np.asarray(self._positions)[:, 2] - self._stance_pos_n[2]
-        heights_m[-1] -= landing_excess_m
+        if zupt_dx is not None:
+            heights_m[-1] -= zupt_dx[2] - landing_height_correction(
+                zupt_dx[2], zupt_dx[5], swing_s)
         features[:4] = height_features(heights_m)
         stride_n = pos_n - self._stance_pos_n
         self._last_slope = slope(np.array([stride_n[0], stride_n[1], heights_m[-1]]))

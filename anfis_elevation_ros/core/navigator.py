@@ -287,9 +287,8 @@ class FootNavigator:
         self._kernel_args = (
             self._nominal, self._P, np.eye(ekf.N_STATES), ekf.process_noise(p.ekf, 1.0),
             ekf.initial_covariance(p.ekf), self._prev_sample, self._C_nb, self._zupt_dx,
-            self._counts,
-            self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state, i.counts,
-            self._gate_state, self._gate_config)
+            self._counts, self._scalars, d.samples, d.sums, d.count, d.config, i.peaks, i.state,
+            i.counts, self._gate_state, self._gate_config)
         C_fb = None if p.mounting_rpy_deg is None else rpy_to_dcm(*np.radians(p.mounting_rpy_deg))
         self._gait = GaitSegmenter(p.gait, self._status.rate_hz, MountingEstimator(p.gait, C_fb))
         self._gait.update(stamp_ns, True, self._nominal[POS_N].copy(), self._C_nb.copy(),
