@@ -19,7 +19,7 @@ from functools import partial
 from anfis_elevation_ros.core.riser_height import allowed_riser_counts, height_checked_mode
 from anfis_elevation_ros.core.riser_height import K_GRID_M, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
-from anfis_elevation_ros.core.riser_height import stride_log_likelihood
+from anfis_elevation_ros.core.riser_height import stride_log_likelihood, stride_riser_counts
 from anfis_elevation_ros.core.stair_steps import flight_riser_count
 from anfis_elevation_ros.core.stairwells import StairwellRiserHeights
 import numpy as np
@@ -122,6 +122,39 @@ def test_riser_count_bounds_follow_the_stride_length():
     assert riser_count_bounds(0.28, from_level=True) == (1, 1)
     assert allowed_riser_counts(0.91, from_level=True).tolist() == [True] * 4
     assert allowed_riser_counts(0.50, from_level=True).tolist() == [True, True, False, False]
+
+
+def test_a_stride_length_that_no_riser_height_fits_is_not_believed():
+    # The length allows counts whose riser height is on the grid: they stand.
+    assert stride_riser_counts(0.30, 0.56).tolist() == [False, True, False, False]
+    assert stride_riser_counts(0.50, 0.84).tolist() == [False, False, True, True]
+    # Random walk 398 (consumer), strides of 2 risers of 0.149 m out of a landing's turn whose
+    # INS lengths allow one riser of 0.30 m, or three or four of 0.10 m or less: any count.
+    assert stride_riser_counts(0.300, 0.378, from_level=True).all()
+    assert stride_riser_counts(0.295, 0.88).all()
+    # Walk 361: 3 risers of 0.159 m onto the floor, read 1.31 m long (four risers at least).
+    assert stride_riser_counts(0.471, 1.305).all()
+    # Within three sigma of the grid's edge a count still fits: 0.43 m is two of 0.215 m.
+    assert not stride_riser_counts(0.43, 0.56, sigma_m=0.01).all()
+
+
+def test_a_flight_out_of_a_landings_turn_joins_the_stairwell_its_heights_fit():
+    # Random walk 398 (consumer, 2026-12-07): a stairwell of 0.147 m risers, another of
+    # 0.187 m; a flight of 2-riser strides of 0.149 m whose first three strides read 0.38,
+    # 0.88 and 0.81 m long. Held to their lengths they fit no riser height, the evidence tied
+    # and the flight went to the 0.187 m stairwell (a height 0.38 m off).
+    wells = StairwellRiserHeights(0.17)
+    for dh, length, count in ((0.294, 0.56, 9), (0.374, 0.57, 4)):
+        wells.start_flight()
+        for _ in range(count):
+            wells.add(dh, length)
+        wells.end_flight(counted(2 * count))
+    assert wells.stairwells == 2
+    wells.start_flight((30.0, 30.0), -1, -10.0)
+    for dh, length, from_level in ((-0.300, 0.378, True), (-0.295, 0.88, False),
+                                   (-0.291, 0.806, False)):
+        wells.add(dh, length, from_level=from_level)
+        assert wells.estimate_m == pytest.approx(0.147, abs=0.002)
 
 
 def test_a_flight_counts_a_sure_height_whatever_the_stride_length_says():

@@ -24,7 +24,8 @@ risers, unknown. K is the maximum of the posterior over a grid of riser heights
 with a weak Gaussian prior p(K) around ``elevation.step_height_m`` (:func:`log_prior`), a
 mixture over the riser count per stride (:func:`stride_log_likelihood`) and the counts a
 stride's horizontal length L_i allows (:func:`allowed_riser_counts`: one tread is
-:data:`TREAD_RANGE_M`). Sub-harmonics: on this grid K/2 never fits (2 x 0.13 > 0.21), but 2
+:data:`TREAD_RANGE_M`), unless its height fits none of them (:func:`stride_riser_counts`: then
+the length is wrong). Sub-harmonics: on this grid K/2 never fits (2 x 0.13 > 0.21), but 2
 risers of 0.195 m look like 3 of 0.13 m; the stride length tells them apart, and
 pi(n) prefers the smaller count (:data:`RISER_COUNT_PRIOR`). A riser height the building
 file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``).
@@ -32,9 +33,10 @@ file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``
 One estimate per stairwell (``core/stairwells.py``). Before a stride reaches the estimate its
 slope error is removed, and its noise sigma is the level strides' (``core/level_strides.py``).
 
-Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`riser_count_bounds`,
-:func:`height_checked_mode`, :func:`stride_log_likelihood`, :class:`RiserHeightEstimator`,
-:func:`log_sum_exp`, :func:`known_riser_height_m`, :data:`K_GRID_M`.
+Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`stride_riser_counts`,
+:func:`riser_count_bounds`, :func:`height_checked_mode`, :func:`stride_log_likelihood`,
+:class:`RiserHeightEstimator`, :func:`log_sum_exp`, :func:`known_riser_height_m`,
+:data:`K_GRID_M`.
 
 References
 ----------
@@ -120,6 +122,36 @@ def allowed_riser_counts(length_m: Optional[float], from_level: bool = False) ->
     return allowed if allowed.any() else np.ones(MAX_RISERS, dtype=bool)
 
 
+def stride_riser_counts(dh_m: float, length_m: Optional[float], from_level: bool = False,
+                        sigma_m: float = STRIDE_SIGMA_M) -> np.ndarray:
+    """
+    Riser counts a stair stride can have: those its length allows, unless its height denies all.
+
+        A = allowed(L)     if some n in allowed(L) has n K_min - 3 sigma <= |dh|
+                           and |dh| <= n K_max + 3 sigma
+        A = {1..N_max}     otherwise
+
+    allowed(L) is :func:`allowed_riser_counts`, [K_min, K_max] the grid :data:`K_GRID_M` and
+    sigma the stride's height noise. When no count the length allows gives a riser height on
+    the grid, the length is wrong, not the height: a consumer IMU's strides out of a landing's
+    turn read 0.38, 0.88 and 0.81 m long where each was 0.56 m (random walk 398), and a flight's
+    last stride reads 1.31 m where it was 0.84 m as it steps onto the floor (361). Held to
+    their lengths, such 2- and 3-riser strides fit no riser height (one riser of 0.30 m, four
+    of 0.118 m), are left to the outlier term, and the flight's few other strides choose the
+    stairwell and its K alone.
+
+    Returns
+    -------
+    (MAX_RISERS,) bool array, entry n-1 for n risers.
+
+    """
+    allowed = allowed_riser_counts(length_m, from_level)
+    counts = np.arange(1, MAX_RISERS + 1)
+    fits = (counts * K_GRID_M[0] - 3.0 * sigma_m <= abs(dh_m)) \
+        & (abs(dh_m) <= counts * K_GRID_M[-1] + 3.0 * sigma_m)
+    return allowed if (allowed & fits).any() else np.ones(MAX_RISERS, dtype=bool)
+
+
 def height_checked_mode(mode: int, dh_m: float, length_m: Optional[float],
                         step_height_m: float, last_mode: int) -> int:
     """
@@ -190,7 +222,7 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
     k_grid_m : (G,) array
         Riser heights K, m.
     allowed : (MAX_RISERS,) bool array or None
-        From :func:`allowed_riser_counts`; None allows every count.
+        From :func:`stride_riser_counts`; None allows every count.
     sigma_m : float
         Noise sigma, m.
 
@@ -281,7 +313,7 @@ class RiserHeightEstimator:
             raise ValueError(f'RiserHeightEstimator.add: dh_m must be finite, got {dh_m!r}')
         if self.estimating:
             self._log_likelihood = self._log_likelihood + stride_log_likelihood(
-                dh_m, K_GRID_M, allowed_riser_counts(length_m))
+                dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m))
         self.strides += 1
         return self.estimate_m
 

@@ -32,8 +32,8 @@ from typing import Callable, Optional
 import numpy as np
 
 from .level_strides import STRIDE_SIGMA_M
-from .riser_height import allowed_riser_counts, K_GRID_M, log_sum_exp, PRIOR_SIGMA_M
-from .riser_height import RiserHeightEstimator, stride_log_likelihood
+from .riser_height import K_GRID_M, log_sum_exp, PRIOR_SIGMA_M, RiserHeightEstimator
+from .riser_height import stride_log_likelihood, stride_riser_counts
 
 SAME_STAIRS_M = 3.0
 """A flight starting this close (m) to where a stairwell's last flight ended is in it."""
@@ -127,14 +127,14 @@ class StairwellRiserHeights:
         Add a stride (ending at (x, y), m) to the open flight; return the estimate, m.
 
         ``sigma_m`` is the stride's height noise (``level_strides.stride_noise_sigma``);
-        ``from_level`` says it is the flight's first (:func:`allowed_riser_counts`).
+        ``from_level`` says it is the flight's first (:func:`stride_riser_counts`).
         """
         if not math.isfinite(dh_m):
             raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
         if self._flight_log_likelihood is None:
             self.start_flight()
         self._flight_log_likelihood += stride_log_likelihood(
-            dh_m, K_GRID_M, allowed_riser_counts(length_m, from_level), sigma_m)
+            dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m, from_level, sigma_m), sigma_m)
         self._flight_strides += 1
         self._flight_end_xy = end_xy
         same_stairs = self._stairwell_ending_near(self._flight_start_xy)
