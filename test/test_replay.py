@@ -42,4 +42,5 @@ def test_replay_writes_the_csv_contract_with_exact_stamps(tmp_path):
     assert list(cycles[0])[:5] == ['stamp_ns', 'mode', 'height_m', 'x_m', 'y_m']
     assert np.isin([int(c['stamp_ns']) for c in cycles], stamps).all()
     assert len(cycles) == len(walk.strides.stamp_ns)
-    assert abs(float(cycles[-1]['height_m']) - 6 * 0.17) < 1e-9  # six steps of K = 0.17 m
+    k_m = float(cycles[-1]['step_height_m'])      # six steps of K = 0.17 m, K estimated
+    assert abs(float(cycles[-1]['height_m']) - 6 * k_m) < 1e-9 and abs(k_m - 0.17) < 0.001

@@ -16,7 +16,8 @@
 
 from functools import partial
 
-from anfis_elevation_ros.core.riser_height import allowed_riser_counts, height_checked_mode
+from anfis_elevation_ros.core.riser_height import allowed_riser_counts, grid_peak_m
+from anfis_elevation_ros.core.riser_height import height_checked_mode
 from anfis_elevation_ros.core.riser_height import K_GRID_M, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
 from anfis_elevation_ros.core.riser_height import stride_log_likelihood, stride_riser_counts
@@ -82,7 +83,7 @@ def test_reset_forgets_the_strides():
     estimator = RiserHeightEstimator(0.17)
     for _ in range(6):
         estimator.add(0.30, 0.56)
-    assert estimator.estimate_m == pytest.approx(0.15)
+    assert estimator.estimate_m == pytest.approx(0.15, abs=0.0005)    # the prior pulls a little
     estimator.reset()
     assert estimator.strides == 0 and estimator.estimate_m == 0.17
 
@@ -95,6 +96,24 @@ def test_equation_functions():
     assert allowed_riser_counts(None).all() and allowed_riser_counts(5.0).all()
     likelihood = stride_log_likelihood(0.34, K_GRID_M, allowed_riser_counts(0.56))
     assert K_GRID_M[np.argmax(likelihood)] == pytest.approx(0.17)
+
+
+def test_the_estimate_lies_between_the_grids_points():
+    """Random walk 399 (consumer): stairs of 0.1475 m; the 1 mm grid gives 0.147 or 0.148."""
+    parabola = -((K_GRID_M - 0.1475) / 0.002) ** 2
+    assert grid_peak_m(K_GRID_M, parabola) == pytest.approx(0.1475, abs=1e-9)
+    assert grid_peak_m(K_GRID_M, -((K_GRID_M - 0.125) / 0.002) ** 2) == 0.13   # the grid's end
+    assert grid_peak_m(K_GRID_M, np.zeros(len(K_GRID_M))) == 0.13                # flat: no peak
+    estimator = RiserHeightEstimator(0.17)
+    for _ in range(40):                 # one riser a stride, 0.1475 m, 1 mm of noise
+        estimator.add(0.1475, 0.28)
+    assert estimator.estimate_m == pytest.approx(0.1475, abs=0.0002)
+    sigma = 0.004                       # the stride noise of the level strides
+    stairwells = StairwellRiserHeights(0.17)
+    stairwells.start_flight((0.0, 0.0), -1, 0.0)
+    for _ in range(40):
+        stairwells.add(-0.1475, 0.28, (0.0, 0.0), sigma)
+    assert stairwells.estimate_m == pytest.approx(0.1475, abs=0.0002)
 
 
 @pytest.mark.parametrize('bad', [0.05, 0.3, float('nan'), True, '0.17'])
