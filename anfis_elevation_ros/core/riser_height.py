@@ -366,8 +366,9 @@ def grid_peak_m(grid_m: np.ndarray, log_posterior: np.ndarray) -> float:
 
         K* = K_i + d (l_- - l_+) / (2 (l_- - 2 l_0 + l_+)),   |K* - K_i| <= d / 2
 
-    (K_i itself at the grid's ends, or where the three are not concave). The grid's 1 mm
-    would otherwise round K by up to 0.5 mm, 2 cm over a 40-riser climb (README).
+    (the bound holds because l_0 is the largest of the three; K_i itself at the grid's ends, or
+    where the three are equal). The grid's 1 mm would otherwise round K by up to 0.5 mm, 2 cm
+    over a 40-riser climb (README).
     """
     i = int(np.argmax(log_posterior))
     if not 0 < i < len(grid_m) - 1:
@@ -376,8 +377,7 @@ def grid_peak_m(grid_m: np.ndarray, log_posterior: np.ndarray) -> float:
     curvature = below - 2.0 * peak + above
     if not curvature < 0.0:
         return float(grid_m[i])
-    offset = min(0.5, max(-0.5, 0.5 * (below - above) / curvature))
-    return float(grid_m[i] + offset * (grid_m[i + 1] - grid_m[i]))
+    return float(grid_m[i] + 0.5 * (below - above) / curvature * (grid_m[i + 1] - grid_m[i]))
 
 
 def log_sum_exp(terms: np.ndarray) -> float:
