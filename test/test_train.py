@@ -35,9 +35,19 @@ from anfis_elevation_ros.tools import labels as lab
 from anfis_elevation_ros.tools import train
 from anfis_elevation_ros.tools.bags import write_imu_bag
 from anfis_elevation_ros.tools.cli import main
+from anfis_elevation_ros.tools.cross_validation import assign_folds, candidate_options
+from anfis_elevation_ros.tools.cross_validation import choose_setting, choose_threshold
+from anfis_elevation_ros.tools.cross_validation import cross_validate, fit_model, input_universe
+from anfis_elevation_ros.tools.cross_validation import nested_cv, stack, THRESHOLD_GRID
+from anfis_elevation_ros.tools.cross_validation import TrainOptions
 from anfis_elevation_ros.tools.datasets import shared_data_dir
 from anfis_elevation_ros.tools.replay import replay_recording
 from anfis_elevation_ros.tools.train_forest import FOREST_FEATURE_NAMES, ForestOptions
+from anfis_elevation_ros.tools.training_data import collect, CycleSet, hugadb_specs, LabelRules
+from anfis_elevation_ros.tools.training_recordings import BagSpec, cache_key, default_cache_dir
+from anfis_elevation_ros.tools.training_recordings import HugadbSpec, Pipeline
+from anfis_elevation_ros.tools.training_recordings import pipeline_fingerprint, SIM_IMU_PRESETS
+from anfis_elevation_ros.tools.training_recordings import sim_spec, simulate_run
 import numpy as np
 import pytest
 
@@ -117,34 +127,34 @@ def test_int_lists_round_trip():
 def test_choose_threshold_picks_the_best_and_breaks_ties_towards_one_half():
     labels = np.array([1, 0, 0, -1])
     # Accuracy is 1 for 0.3 <= sigma_th < 0.6 (and < 1 outside): 0.5 is the tie nearest 0.5.
-    threshold, accuracies = train.choose_threshold(labels, np.array([0.6, 0.3, -0.2, -0.9]))
+    threshold, accuracies = choose_threshold(labels, np.array([0.6, 0.3, -0.2, -0.9]))
     assert threshold == 0.5
-    assert accuracies[train.THRESHOLD_GRID.index(0.25)] == 0.75
+    assert accuracies[THRESHOLD_GRID.index(0.25)] == 0.75
     # Only 0.65 <= sigma_th < 0.7 is perfect here.
-    threshold, _ = train.choose_threshold(labels, np.array([0.7, 0.65, 0.0, -1.0]))
+    threshold, _ = choose_threshold(labels, np.array([0.7, 0.65, 0.0, -1.0]))
     assert threshold == 0.65
 
 
 def test_sim_spec_is_deterministic_and_within_the_ranges():
-    specs = [train.sim_spec(seed) for seed in range(1, 41)]
-    assert specs == [train.sim_spec(seed) for seed in range(1, 41)]
-    assert {s.imu for s in specs} == set(train.SIM_IMU_PRESETS)
+    specs = [sim_spec(seed) for seed in range(1, 41)]
+    assert specs == [sim_spec(seed) for seed in range(1, 41)]
+    assert {s.imu for s in specs} == set(SIM_IMU_PRESETS)
     assert all(100 <= s.rate_hz <= 400 and s.rate_hz == int(s.rate_hz) for s in specs)
     assert all(-50.0 <= s.mounting_rpy_deg[1] <= 50.0 for s in specs)
 
 
 def test_assign_folds_leave_one_subject_out():
     def cycle_set(source, subject, recording, name):
-        return train.CycleSet(name, source, subject, recording, np.zeros((1, 5)),
-                              np.zeros(1, np.int8), np.zeros(1, bool))
+        return CycleSet(name, source, subject, recording, np.zeros((1, 5)),
+                        np.zeros(1, np.int8), np.zeros(1, bool))
     sets = [cycle_set('sim', f'sim/seed{i}', f'sim/seed{i}', f'sim/seed{i}') for i in range(5)]
     sets += [cycle_set('hugadb', f'hugadb/s0{s}', f'hugadb/f{s}{f}', f'hugadb/f{s}{f}/{foot}')
              for s in (1, 2) for f in (1, 2) for foot in ('left', 'right')]
-    folds, names = train.assign_folds(sets, 'subject', seed=3)
+    folds, names = assign_folds(sets, 'subject', seed=3)
     assert len(names) == 2 and sorted(folds[5:].tolist()) == [0] * 4 + [1] * 4
     assert len(set(folds[5:9].tolist())) == 1               # one subject, one fold
     assert sorted(np.bincount(folds[:5]).tolist()) == [2, 3]  # simulated runs dealt round-robin
-    folds, names = train.assign_folds(sets, 'recording')
+    folds, names = assign_folds(sets, 'recording')
     assert len(names) == 5 + 4                                 # both feet of a file together
     assert folds[5] == folds[6] and folds[5] != folds[7]
 
@@ -155,8 +165,8 @@ def _noisy_cycle_set(rng, subject, flip=False):
     mode = np.clip(np.round(1.5 * x[:, 0] + rng.normal(0.0, 0.3, 60)), -1, 1)
     if flip:
         mode = -mode
-    return train.CycleSet(f'hugadb/f{subject}/left', 'hugadb', f'hugadb/s0{subject}',
-                          f'hugadb/f{subject}', x, mode.astype(np.int8), np.zeros(60, bool))
+    return CycleSet(f'hugadb/f{subject}/left', 'hugadb', f'hugadb/s0{subject}',
+                    f'hugadb/f{subject}', x, mode.astype(np.int8), np.zeros(60, bool))
 
 
 def test_nested_threshold_never_sees_the_fold_it_scores():
@@ -168,22 +178,22 @@ def test_nested_threshold_never_sees_the_fold_it_scores():
     """
     rng = np.random.default_rng(5)
     sets = [_noisy_cycle_set(rng, s) for s in (1, 2, 3)]
-    folds, _ = train.assign_folds(sets, 'subject')
-    options = train.TrainOptions(epochs=1)
-    output = train.cross_validate(sets, folds, options)
-    choices, thresholds, predicted = train.nested_cv(sets, folds, [options], [output])
+    folds, _ = assign_folds(sets, 'subject')
+    options = TrainOptions(epochs=1)
+    output = cross_validate(sets, folds, options)
+    choices, thresholds, predicted = nested_cv(sets, folds, [options], [output])
     assert choices.tolist() == [0, 0, 0]
-    assert len(thresholds) == 3 and set(thresholds) <= set(train.THRESHOLD_GRID)
-    _, _, owner = train.stack(sets)
+    assert len(thresholds) == 3 and set(thresholds) <= set(THRESHOLD_GRID)
+    _, _, owner = stack(sets)
     for k in range(3):
         mask = folds[owner] == k
         assert predicted[mask].tolist() == stair_mode(output[mask], thresholds[k]).tolist()
     k = int(folds[0])
     changed = [_noisy_cycle_set(rng, 1, flip=True)] + sets[1:]   # fold k: other data and labels
-    _, again, _ = train.nested_cv(changed, folds, [options], [output])
+    _, again, _ = nested_cv(changed, folds, [options], [output])
     assert again[k] == thresholds[k]
-    two = train.assign_folds(sets[:2], 'subject')[0]
-    assert train.nested_cv(sets[:2], two, [options], [output[:120]]) == (None, None, None)
+    two = assign_folds(sets[:2], 'subject')[0]
+    assert nested_cv(sets[:2], two, [options], [output[:120]]) == (None, None, None)
 
 
 def test_nested_forest_setting_is_chosen_without_the_fold_it_scores():
@@ -197,52 +207,52 @@ def test_nested_forest_setting_is_chosen_without_the_fold_it_scores():
     pytest.importorskip('sklearn')
     rng = np.random.default_rng(7)
     sets = [_noisy_cycle_set(rng, s) for s in (1, 2, 3, 4)]
-    folds, _ = train.assign_folds(sets, 'subject')
-    base = train.TrainOptions(backend='forest', forest=ForestOptions(n_trees=15))
-    candidates = train.candidate_options(base, [1 / 16, 1.0])
+    folds, _ = assign_folds(sets, 'subject')
+    base = TrainOptions(backend='forest', forest=ForestOptions(n_trees=15))
+    candidates = candidate_options(base, [1 / 16, 1.0])
     assert [c.forest.max_features for c in candidates] == [1 / 16, 1.0]
-    outputs = [train.cross_validate(sets, folds, c) for c in candidates]
-    choices, thresholds, predicted = train.nested_cv(sets, folds, candidates, outputs,
-                                                     grid=train.FOREST_THRESHOLD_GRID)
+    outputs = [cross_validate(sets, folds, c) for c in candidates]
+    choices, thresholds, predicted = nested_cv(sets, folds, candidates, outputs,
+                                               grid=train.FOREST_THRESHOLD_GRID)
     assert choices.tolist() == [1, 1, 1, 1] and thresholds.tolist() == [0.0] * 4
-    _, labels, owner = train.stack(sets)
+    _, labels, owner = stack(sets)
     assert predicted.tolist() == stair_mode(outputs[1], 0.0).tolist()
-    chosen, threshold, _ = train.choose_setting(labels, outputs, train.FOREST_THRESHOLD_GRID)
+    chosen, threshold, _ = choose_setting(labels, outputs, train.FOREST_THRESHOLD_GRID)
     assert (chosen, threshold) == (1, 0.0)
     k = int(folds[0])
-    noise = train.CycleSet(sets[0].name, 'hugadb', sets[0].subject, sets[0].recording,
-                           sets[0].features, rng.integers(-1, 2, 60).astype(np.int8),
-                           np.zeros(60, bool))
-    again, _, _ = train.nested_cv([noise] + sets[1:], folds, candidates, outputs,
-                                  grid=train.FOREST_THRESHOLD_GRID)
+    noise = CycleSet(sets[0].name, 'hugadb', sets[0].subject, sets[0].recording,
+                     sets[0].features, rng.integers(-1, 2, 60).astype(np.int8),
+                     np.zeros(60, bool))
+    again, _, _ = nested_cv([noise] + sets[1:], folds, candidates, outputs,
+                            grid=train.FOREST_THRESHOLD_GRID)
     assert again[k] == choices[k]
 
 
 def test_hugadb_specs_with_and_without_the_clipped_gyros():
     hugadb = shared_data_dir() / 'hugadb'
-    specs = train.hugadb_specs(hugadb)
+    specs = hugadb_specs(hugadb)
     assert len(specs) == 107 and {s.gyro_range_dps for s in specs} == {2000}
     assert not {4, 5} & {s.subject for s in specs}
-    every = train.hugadb_specs(hugadb, clipped_gyro=True)
+    every = hugadb_specs(hugadb, clipped_gyro=True)
     assert len(every) == 180 and {s.subject for s in every} == set(range(1, 10))
     clipped = [s for s in every if s.gyro_range_dps == 250]
     assert len(clipped) == 73 and {s.subject for s in clipped} == {3, 4, 5, 7, 9}
     # The cache key of an unclipped foot is what it was before the gyro range existed.
     spec = specs[0]
-    assert train.cache_key(spec, train.Pipeline()) != train.cache_key(
-        train.HugadbSpec(spec.path, spec.foot, spec.subject, 250), train.Pipeline())
+    assert cache_key(spec, Pipeline()) != cache_key(
+        HugadbSpec(spec.path, spec.foot, spec.subject, 250), Pipeline())
 
 
 def test_input_universe_ignores_outliers():
     features = np.tile(np.linspace(0.0, 1.0, 1001)[:, None], (1, 5))
     features[0] = -100.0
-    universe = train.input_universe(features, 0.005)
+    universe = input_universe(features, 0.005)
     # Linear quantiles of 1001 sorted values: positions 0.005 x 1000 = 5 and 995, i.e. the
     # values 0.005 (the outlier replaced 0.000 at position 0) and 0.995.
     np.testing.assert_allclose(universe[:, 0], 0.005, atol=1e-12)
     np.testing.assert_allclose(universe[:, 1], 0.995, atol=1e-12)
     with pytest.raises(InputError, match='do not vary'):
-        train.input_universe(np.ones((10, 5)), 0.0)
+        input_universe(np.ones((10, 5)), 0.0)
 
 
 def test_bad_usage_and_missing_data(tmp_path, capsys):
@@ -263,8 +273,8 @@ def test_bag_labels_per_cycle_and_per_sample_agree_with_the_simulator_truth(tmp_
     start of its swing (a segment label held until the next one). The navigator sees the same
     float64 samples (the bag stores them exactly), so features must be equal to the bit.
     """
-    spec = train.sim_spec(375, 40.0)                 # 393 Hz, consumer IMU, up and down
-    walk = train.simulate_run(spec)
+    spec = sim_spec(375, 40.0)                 # 393 Hz, consumer IMU, up and down
+    walk = simulate_run(spec)
     bag = tmp_path / 'walk'
     write_imu_bag(bag, walk.to_recording())
     strides = walk.strides
@@ -272,9 +282,9 @@ def test_bag_labels_per_cycle_and_per_sample_agree_with_the_simulator_truth(tmp_
     for path, stamps in ((per_cycle, strides.stamp_ns), (per_sample, strides.swing_start_ns)):
         path.write_text('stamp_ns,label\n' + ''.join(
             f'{t},{m}\n' for t, m in zip(stamps.tolist(), strides.mode.tolist())))
-    specs = [spec, train.BagSpec(str(bag), str(per_cycle), 'cycle'),
-             train.BagSpec(str(bag), str(per_sample), 'sample')]
-    reference, by_cycle, by_sample = train.collect(specs, train.Pipeline(), train.LabelRules())
+    specs = [spec, BagSpec(str(bag), str(per_cycle), 'cycle'),
+             BagSpec(str(bag), str(per_sample), 'sample')]
+    reference, by_cycle, by_sample = collect(specs, Pipeline(), LabelRules())
     # One cycle per true stride (the navigator starts in the initial stand), each its mode.
     assert reference.labels.tolist() == strides.mode.tolist()
     assert set(reference.labels.tolist()) == {-1, 0, 1}
@@ -352,8 +362,8 @@ def test_default_model_records_its_command_and_is_current(default_model):
     assert meta['data']['counts']['hugadb']['recordings'] == 107
     message = ('the navigator pipeline or the simulator changed since config/forest_default.json'
                f' was made: rebuild it from the project root with {train.DEFAULT_COMMAND}')
-    assert meta['pipeline_code_sha256'] == train.pipeline_fingerprint(), message
-    assert meta['sim_code_sha256'] == train.pipeline_fingerprint(sim_only=True), message
+    assert meta['pipeline_code_sha256'] == pipeline_fingerprint(), message
+    assert meta['sim_code_sha256'] == pipeline_fingerprint(sim_only=True), message
 
 
 def test_default_model_climbs_and_descends_a_short_flight(default_model):
@@ -391,16 +401,16 @@ def test_hugadb_held_out_subject_accuracy_floor():
     about 1 s with a warm one.
     """
     hugadb = shared_data_dir() / 'hugadb'
-    rules = train.LabelRules()
+    rules = LabelRules()
 
     def cycles(subjects):
-        specs = [s for s in train.hugadb_specs(hugadb, subjects) if s.foot == 'right']
-        sets = train.collect(specs, train.Pipeline(), rules, train.default_cache_dir())
-        return train.stack([s for s in sets if len(s.labels)])[:2]
+        specs = [s for s in hugadb_specs(hugadb, subjects) if s.foot == 'right']
+        sets = collect(specs, Pipeline(), rules, default_cache_dir())
+        return stack([s for s in sets if len(s.labels)])[:2]
 
     x_train, y_train = cycles({1, 6})
     x_test, y_test = cycles({9})
-    model = train.fit_model(x_train, y_train, train.TrainOptions())
+    model = fit_model(x_train, y_train, TrainOptions())
     accuracy = np.mean(stair_mode(model.predict(x_test), 0.4) == y_test)
     assert len(y_test) >= 130 and set(y_test.tolist()) == {-1, 0, 1}
     assert accuracy >= 0.89, accuracy

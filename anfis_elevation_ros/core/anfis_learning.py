@@ -52,7 +52,7 @@ Default ridge factor of :func:`least_squares_consequents`, relative to mean(diag
 0 is Jang's plain least squares, so the defaults reproduce his Mackey-Glass result (4 inputs x 2
 bells, 500 epochs on his own files: checking RMSE 0.00138, against 0.0040 with 1e-4; Jang reports
 0.0016). A rule base with many more unknowns than samples needs regularisation: the stair training
-tool passes its own (``tools/train.py``, ``DEFAULT_TRAIN_RIDGE``).
+tool passes its own (``tools/cross_validation.py``, ``DEFAULT_TRAIN_RIDGE``).
 """
 MIN_WIDTH_FRACTION = 1e-3
 """Smallest triangle half-width and bell width a, as a fraction of the input's universe width."""

@@ -27,7 +27,8 @@ swing) to ``stamp_ns`` (first stance sample after it). Its label is the stair mo
   cycles (mixed, or mostly another activity) are unlabelled.
 - :func:`non_stride_cycles` -- cycles whose swing is shorter than any stride (the zero-velocity
   detector flickering while the foot rests): the foot stayed on its step, so with per-sample
-  labels the training tool labels them 0 whatever the activity around them (see ``train.py``).
+  labels the training tool labels them 0 whatever the activity around them (see
+  ``training_data.py``).
 
 Labels are int8 arrays in {-1, 0, +1} with a boolean ``labelled`` mask beside them; the value
 under a False mask is :data:`UNLABELLED`. Per-sample label arrays use :data:`OTHER` for samples of

@@ -25,7 +25,7 @@ Three figures, each against its goal; exits 1 if one is missed:
 2. ``loso``: HuGaDB leave-one-subject-out: for each subject a model trained on the training
    simulated runs and the other subjects, per-cycle accuracy and confusion matrices (the
    ``train`` cross-validation, recomputed). Goal >= 97 %, scored with sigma_th chosen inside
-   the training folds (``train.nested_cv``; the model's and the CV-best sigma_th,
+   the training folds (``cross_validation.nested_cv``; the model's and the CV-best sigma_th,
    which saw the test folds, are shown beside it). ``--hugadb-clipped-gyro`` adds the feet whose
    gyro is a +-250 deg/s one (subjects 1-9 instead of 1-3, 6-9). Also given: the accuracy on
    cycles at least 2 s from any change of the human label (transitions are where labels and
@@ -51,8 +51,16 @@ from anfis_elevation_ros.core.height import ElevationParams, stair_mode
 from anfis_elevation_ros.core.params import load_pipeline_params
 from anfis_elevation_ros.tools import labels as lab
 from anfis_elevation_ros.tools import train
+from anfis_elevation_ros.tools.cross_validation import assign_folds, choose_threshold
+from anfis_elevation_ros.tools.cross_validation import cross_validate, DEFAULT_EPOCHS
+from anfis_elevation_ros.tools.cross_validation import DEFAULT_RANGE_QUANTILE, DEFAULT_TRAIN_RIDGE
+from anfis_elevation_ros.tools.cross_validation import nested_cv, stack, TrainOptions
 from anfis_elevation_ros.tools.metrics import confusion_matrix
 from anfis_elevation_ros.tools.replay import replay_recording
+from anfis_elevation_ros.tools.training_data import collect, hugadb_specs, LabelRules, Progress
+from anfis_elevation_ros.tools.training_recordings import default_cache_dir, DEFAULT_SIM_DURATION_S
+from anfis_elevation_ros.tools.training_recordings import HugadbSpec, navigated, Pipeline, sim_spec
+from anfis_elevation_ros.tools.training_recordings import simulate_run
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -81,14 +89,13 @@ def print_confusion(title: str, matrix):
 
 def bench_sim(model, threshold, args) -> bool:
     """Figure 1: accuracy on held-out simulated runs."""
-    specs = [train.sim_spec(seed, args.sim_duration_s) for seed in args.held_out_seeds]
+    specs = [sim_spec(seed, args.sim_duration_s) for seed in args.held_out_seeds]
     overlap = set(args.held_out_seeds) & set(model.metadata_.get('data', {}).get('sim_seeds', []))
     if overlap:
         print(f'  WARNING: seeds {sorted(overlap)} were used for training')
-    rules = train.LabelRules()
-    sets = train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
-                         train.Progress(args.quiet))
-    features, labels, owner = train.stack(sets)
+    rules = LabelRules()
+    sets = collect(specs, Pipeline(), rules, args.cache_dir, args.jobs, Progress(args.quiet))
+    features, labels, owner = stack(sets)
     predicted = stair_mode(model.predict(features), threshold)
     correct = predicted == labels
     groups = defaultdict(list)
@@ -98,8 +105,8 @@ def bench_sim(model, threshold, args) -> bool:
         band = ('100-199 Hz', '200-299 Hz', '300-400 Hz')[min(2, int(spec.rate_hz // 100) - 1)]
         groups[f'rate {band}'].append(correct[mask])
         # Steps per stride of the matched true strides (re-simulated; the cache keeps modes).
-        strides = train.simulate_run(spec).strides
-        nav = train.navigated(spec, train.Pipeline(), args.cache_dir)[0]
+        strides = simulate_run(spec).strides
+        nav = navigated(spec, Pipeline(), args.cache_dir)[0]
         use = nav.valid & lab.match_nearest(nav.stamp_ns, strides.stamp_ns, strides.mode,
                                             int(rules.match_tolerance_s * 1e9))[1]
         nearest = np.argmin(np.abs(nav.stamp_ns[use][:, None] - strides.stamp_ns[None, :]),
@@ -128,23 +135,23 @@ def bench_loso(model, threshold, args) -> bool:
     """Figure 2: HuGaDB leave-one-subject-out."""
     meta = model.metadata_
     training = meta.get('training', {})
-    options = train.TrainOptions(epochs=training.get('epochs', train.DEFAULT_EPOCHS),
-                                 ridge=training.get('ridge', train.DEFAULT_TRAIN_RIDGE),
-                                 range_quantile=training.get('range_quantile',
-                                                             train.DEFAULT_RANGE_QUANTILE))
+    options = TrainOptions(epochs=training.get('epochs', DEFAULT_EPOCHS),
+                           ridge=training.get('ridge', DEFAULT_TRAIN_RIDGE),
+                           range_quantile=training.get('range_quantile',
+                                                       DEFAULT_RANGE_QUANTILE))
     seeds = meta.get('data', {}).get('sim_seeds') or list(range(1, 41))
     duration_s = (meta.get('data', {}).get('sim') or [{}])[0].get('duration_s',
-                                                                  train.DEFAULT_SIM_DURATION_S)
-    hugadb = train.hugadb_specs(args.hugadb, clipped_gyro=args.hugadb_clipped_gyro)
-    specs = [train.sim_spec(seed, duration_s) for seed in seeds] + hugadb
-    progress = train.Progress(args.quiet)
-    rules = train.LabelRules()
-    sets = [s for s in train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
-                                     progress) if len(s.labels)]
-    folds, names = train.assign_folds(sets, 'subject', 0, 0)
-    output = train.cross_validate(sets, folds, options, progress)
-    _, labels, owner = train.stack(sets)
-    cv_threshold, _ = train.choose_threshold(labels, output)
+                                                                  DEFAULT_SIM_DURATION_S)
+    hugadb = hugadb_specs(args.hugadb, clipped_gyro=args.hugadb_clipped_gyro)
+    specs = [sim_spec(seed, duration_s) for seed in seeds] + hugadb
+    progress = Progress(args.quiet)
+    rules = LabelRules()
+    sets = [s for s in collect(specs, Pipeline(), rules, args.cache_dir, args.jobs,
+                               progress) if len(s.labels)]
+    folds, names = assign_folds(sets, 'subject', 0, 0)
+    output = cross_validate(sets, folds, options, progress)
+    _, labels, owner = stack(sets)
+    cv_threshold, _ = choose_threshold(labels, output)
     is_hugadb = np.array([sets[i].source == 'hugadb' for i in owner])
     subject = np.array([sets[i].subject for i in owner])
     steady = np.concatenate([_steady_mask(spec, s, rules, args.cache_dir)
@@ -158,7 +165,7 @@ def bench_loso(model, threshold, args) -> bool:
     else:
         print(f'  usable feet: {len(hugadb)} (gyro not clipping); subjects 4 and 5 have none '
               '(--hugadb-clipped-gyro adds them)')
-    _, fold_thresholds, nested = train.nested_cv(sets, folds, [options], [output], progress)
+    _, fold_thresholds, nested = nested_cv(sets, folds, [options], [output], progress)
     result = True
     for k, (title, t) in enumerate((('sigma_th chosen inside the training folds', None),
                                     ('model sigma_th', threshold),
@@ -185,9 +192,9 @@ def bench_loso(model, threshold, args) -> bool:
 
 def _steady_mask(spec, cycle_set, rules, cache_dir) -> np.ndarray:
     """Cycles of a set at least TRANSITION_MARGIN_S from any change of the per-sample label."""
-    if not isinstance(spec, train.HugadbSpec):
+    if not isinstance(spec, HugadbSpec):
         return np.ones(len(cycle_set.labels), dtype=bool)
-    nav = train.navigated(spec, train.Pipeline(), cache_dir)[0]
+    nav = navigated(spec, Pipeline(), cache_dir)[0]
     labels, labelled = lab.majority_labels(nav.start_ns, nav.stamp_ns, nav.truth_stamp_ns,
                                            nav.truth_label, rules.min_majority)
     non_stride = lab.non_stride_cycles(nav.start_ns, nav.stamp_ns, rules.min_stride_s)
@@ -242,11 +249,11 @@ def main(argv=None) -> int:
     parser.add_argument('--parts', default='sim,loso,replica')
     parser.add_argument('--held-out-seeds', type=train.parse_int_list,
                         default=train.parse_int_list('1001-1030'))
-    parser.add_argument('--sim-duration-s', type=float, default=train.DEFAULT_SIM_DURATION_S)
+    parser.add_argument('--sim-duration-s', type=float, default=DEFAULT_SIM_DURATION_S)
     parser.add_argument('--hugadb', type=Path, default=ROOT.parent / 'shared' / 'data' / 'hugadb')
     parser.add_argument('--hugadb-clipped-gyro', action='store_true',
                         help='loso: also the feet with a +-250 deg/s gyro (subjects 4, 5)')
-    parser.add_argument('--cache-dir', type=Path, default=train.default_cache_dir())
+    parser.add_argument('--cache-dir', type=Path, default=default_cache_dir())
     parser.add_argument('--jobs', type=int, default=1)
     parser.add_argument('--quiet', action='store_true')
     args = parser.parse_args(argv)

@@ -31,9 +31,11 @@ import sys
 import time
 import timeit
 
-from anfis_elevation_ros.tools import train
+from anfis_elevation_ros.tools.cross_validation import fit_model, stack, TrainOptions
 from anfis_elevation_ros.tools.datasets import shared_data_dir
 from anfis_elevation_ros.tools.train_forest import ForestOptions
+from anfis_elevation_ros.tools.training_data import collect, hugadb_specs, LabelRules
+from anfis_elevation_ros.tools.training_recordings import default_cache_dir, Pipeline
 import numpy as np
 
 TRAIN_TARGET_S = 10.0
@@ -42,9 +44,9 @@ INFERENCE_TARGET_US = 50.0
 
 def training_cycles(n_cycles: int, seed: int):
     """Return HuGaDB cycles (all subjects) repeated with 1 % noise up to ``n_cycles``."""
-    specs = train.hugadb_specs(shared_data_dir() / 'hugadb')
-    sets = train.collect(specs, train.Pipeline(), train.LabelRules(), train.default_cache_dir())
-    features, labels, _ = train.stack([s for s in sets if len(s.labels)])
+    specs = hugadb_specs(shared_data_dir() / 'hugadb')
+    sets = collect(specs, Pipeline(), LabelRules(), default_cache_dir())
+    features, labels, _ = stack([s for s in sets if len(s.labels)])
     rng = np.random.default_rng(seed)
     pick = rng.integers(0, len(labels), n_cycles)
     noise = 1.0 + 0.01 * rng.standard_normal((n_cycles, features.shape[1]))
@@ -75,9 +77,9 @@ def main(argv=None) -> int:
     timings = {}
     for backend in ('forest', 'anfis'):
         forest = ForestOptions(n_trees=args.trees, max_features=args.max_features)
-        options = train.TrainOptions(backend=backend, forest=forest)
+        options = TrainOptions(backend=backend, forest=forest)
         started, started_wall = time.process_time(), time.perf_counter()
-        model = train.fit_model(features, labels, options)
+        model = fit_model(features, labels, options)
         fit_s, fit_wall_s = time.process_time() - started, time.perf_counter() - started_wall
         cpu_us, wall_us = per_cycle_us(model, features)
         timings[backend] = (fit_s, cpu_us)

@@ -19,7 +19,7 @@ Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_hugadb
 (``--clipped-gyro`` adds the +-250 deg/s feet, subjects 1-9; ``--parts`` to choose; ``--help``).
 The cross-validation is the ``train`` one (simulated seeds 1-40 + HuGaDB, one fold per subject,
 default training options), scored with sigma_th chosen inside the training folds
-(``train.nested_cv``). Parts:
+(``cross_validation.nested_cv``). Parts:
 
 - ``loso``: accuracy and confusion per subject; errors by distance of the cycle to the nearest
   change of the human label, by cycle duration (merged cycles: a stance the detector missed),
@@ -59,10 +59,15 @@ from anfis_elevation_ros.core.height import stair_mode
 from anfis_elevation_ros.core.input_gate import InputGate
 from anfis_elevation_ros.core.navigator import FootNavigator
 from anfis_elevation_ros.tools import labels as lab
-from anfis_elevation_ros.tools import train
+from anfis_elevation_ros.tools.cross_validation import assign_folds, cross_validate, fit_model
+from anfis_elevation_ros.tools.cross_validation import nested_cv, stack, TrainOptions
 from anfis_elevation_ros.tools.datasets import load_hugadb, shared_data_dir, STANDARD_GRAVITY_MPS2
 from anfis_elevation_ros.tools.metrics import confusion_matrix
 from anfis_elevation_ros.tools.replay import navigated_samples
+from anfis_elevation_ros.tools.training_data import collect, DEFAULT_MIN_STRIDE_S, hugadb_specs
+from anfis_elevation_ros.tools.training_data import LabelRules, Progress
+from anfis_elevation_ros.tools.training_recordings import default_cache_dir, HugadbSpec, navigated
+from anfis_elevation_ros.tools.training_recordings import Pipeline, sim_spec
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -72,7 +77,7 @@ RUN_LENGTH = 3
 
 def cycle_table(spec, cycle_set, rules, cache_dir) -> dict:
     """Stamps, duration and label-change distance of the used cycles of one HuGaDB foot."""
-    nav = train.navigated(spec, train.Pipeline(), cache_dir)[0]
+    nav = navigated(spec, Pipeline(), cache_dir)[0]
     labels, labelled = lab.majority_labels(nav.start_ns, nav.stamp_ns, nav.truth_stamp_ns,
                                            nav.truth_label, rules.min_majority)
     non_stride = lab.non_stride_cycles(nav.start_ns, nav.stamp_ns, rules.min_stride_s)
@@ -94,19 +99,18 @@ def cycle_table(spec, cycle_set, rules, cache_dir) -> dict:
 
 def loso(args):
     """Run the cross-validation; return per-cycle arrays of the HuGaDB cycles."""
-    rules = train.LabelRules()
-    hugadb = train.hugadb_specs(args.hugadb, clipped_gyro=args.clipped_gyro)
-    specs = [train.sim_spec(seed) for seed in range(1, 41)] + hugadb
-    progress = train.Progress(args.quiet)
-    everything = train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
-                               progress)
+    rules = LabelRules()
+    hugadb = hugadb_specs(args.hugadb, clipped_gyro=args.clipped_gyro)
+    specs = [sim_spec(seed) for seed in range(1, 41)] + hugadb
+    progress = Progress(args.quiet)
+    everything = collect(specs, Pipeline(), rules, args.cache_dir, args.jobs, progress)
     keep = [i for i, s in enumerate(everything) if len(s.labels)]
     sets = [everything[i] for i in keep]
-    folds, _ = train.assign_folds(sets, 'subject', 0, 0)
-    options = train.TrainOptions()
-    output = train.cross_validate(sets, folds, options, progress)
-    _, thresholds, predicted = train.nested_cv(sets, folds, [options], [output], progress)
-    _, labels, owner = train.stack(sets)
+    folds, _ = assign_folds(sets, 'subject', 0, 0)
+    options = TrainOptions()
+    output = cross_validate(sets, folds, options, progress)
+    _, thresholds, predicted = nested_cv(sets, folds, [options], [output], progress)
+    _, labels, owner = stack(sets)
     rows = defaultdict(list)
     for i, cycle_set in zip(keep, sets):
         spec = specs[i]
@@ -207,11 +211,11 @@ def swing_diagnostics(spec):
     """Per swing: end velocity (m/s), saturated samples; acc-bias estimate; cycle strides."""
     recording, activity = load_hugadb(spec.path, spec.foot, gyro_range_dps=spec.gyro_range_dps)
     saturated = np.any(np.abs(recording.acc_b) >= HUGADB_ACC_SATURATION_MPS2, axis=1)
-    navigator = FootNavigator(train.Pipeline().navigator)
+    navigator = FootNavigator(Pipeline().navigator)
     swings, biases, strides = [], [], []
     previous, n_saturated, n_swing, last_pos = None, 0, 0, None
-    min_swing = int(round(train.DEFAULT_MIN_STRIDE_S * recording.rate_hz))
-    for k, point, cycle in navigated_samples(recording, InputGate(train.Pipeline().gate),
+    min_swing = int(round(DEFAULT_MIN_STRIDE_S * recording.rate_hz))
+    for k, point, cycle in navigated_samples(recording, InputGate(Pipeline().gate),
                                              navigator):
         if not point.stance:
             n_saturated += saturated[k]
@@ -235,7 +239,7 @@ def swing_diagnostics(spec):
 def print_nav(args):
     """Swing-end velocity against saturation, bias estimates, stride lengths."""
     swings, biases, lengths = [], [], defaultdict(list)
-    for spec in train.hugadb_specs(args.hugadb):
+    for spec in hugadb_specs(args.hugadb):
         s, b, strides, recording, activity = swing_diagnostics(spec)
         swings.append(s)
         biases.append(b)
@@ -249,7 +253,7 @@ def print_nav(args):
     swings = np.vstack(swings)
     biases = np.concatenate(biases)
     print(f'\nNavigation of the unflagged feet: {len(swings)} swings of at least '
-          f'{train.DEFAULT_MIN_STRIDE_S:g} s')
+          f'{DEFAULT_MIN_STRIDE_S:g} s')
     print('  velocity left at the end of the swing (removed by the ZUPT) by saturated '
           'accelerometer samples in the swing:')
     for lo, hi in ((0, 1), (1, 3), (3, 6), (6, 10), (10, 1000)):
@@ -265,22 +269,22 @@ def print_nav(args):
 
 def print_gyro(args):
     """Classify the flagged gyros, read at either full scale, by a model of the others."""
-    rules = train.LabelRules()
-    specs = [train.sim_spec(seed) for seed in range(1, 41)] + train.hugadb_specs(args.hugadb)
-    sets = [s for s in train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
-                                     train.Progress(args.quiet)) if len(s.labels)]
-    features, labels, _ = train.stack(sets)
-    model = train.fit_model(features, labels, train.TrainOptions())
+    rules = LabelRules()
+    specs = [sim_spec(seed) for seed in range(1, 41)] + hugadb_specs(args.hugadb)
+    sets = [s for s in collect(specs, Pipeline(), rules, args.cache_dir, args.jobs,
+                               Progress(args.quiet)) if len(s.labels)]
+    features, labels, _ = stack(sets)
+    model = fit_model(features, labels, TrainOptions())
     threshold = 0.45                                    # the default model's sigma_th
-    flagged = [s for s in train.hugadb_specs(args.hugadb, clipped_gyro=True)
+    flagged = [s for s in hugadb_specs(args.hugadb, clipped_gyro=True)
                if s.gyro_range_dps != 2000]
     print(f'\nFlagged gyros ({len(flagged)} feet), model of the {len(specs) - 40} unflagged feet '
           f'and seeds 1-40, sigma_th {threshold}:')
     for range_dps in (2000, 250):
-        specs_r = [train.HugadbSpec(s.path, s.foot, s.subject, range_dps) for s in flagged]
-        found = [s for s in train.collect(specs_r, train.Pipeline(), rules, args.cache_dir,
-                                          args.jobs, train.Progress(True)) if len(s.labels)]
-        f, y, owner = train.stack(found)
+        specs_r = [HugadbSpec(s.path, s.foot, s.subject, range_dps) for s in flagged]
+        found = [s for s in collect(specs_r, Pipeline(), rules, args.cache_dir,
+                                    args.jobs, Progress(True)) if len(s.labels)]
+        f, y, owner = stack(found)
         p = stair_mode(model.predict(f), threshold)
         subject = np.array([found[i].subject for i in owner])
         counts = {key: sum(s.counts[key] for s in found) for key in ('cycles', 'invalid')}
@@ -292,8 +296,8 @@ def print_gyro(args):
 
 def gated_pipeline(enabled: bool):
     """Return the default pipeline with the stride gate off or on."""
-    defaults = train.Pipeline()
-    return train.Pipeline(dataclasses.replace(defaults.navigator, stride_gate=dataclasses.replace(
+    defaults = Pipeline()
+    return Pipeline(dataclasses.replace(defaults.navigator, stride_gate=dataclasses.replace(
         defaults.navigator.stride_gate, enabled=enabled)), defaults.gate)
 
 
@@ -315,7 +319,7 @@ def print_gate(args):
     """Print the cycles the stride gate adds and removes on HuGaDB, and what they are."""
     tolerance_ns = 200_000_000
     added, removed, counts, per_file = [], [], np.zeros(2, int), defaultdict(dict)
-    for spec in train.hugadb_specs(args.hugadb):
+    for spec in hugadb_specs(args.hugadb):
         recording, _ = load_hugadb(spec.path, spec.foot, gyro_range_dps=spec.gyro_range_dps)
         stance_off, off = gated_run(recording, False)
         stance_on, on = gated_run(recording, True)
@@ -360,14 +364,13 @@ def print_gate(args):
 
 def gate_loso(args, enabled: bool) -> dict:
     """Leave-one-subject-out of the used HuGaDB cycles: {name: (label, predicted, start, end)}."""
-    pipeline, rules = gated_pipeline(enabled), train.LabelRules()
-    sims = [train.sim_spec(seed) for seed in range(1, 41)]
-    hugadb = train.hugadb_specs(args.hugadb)
-    sets = train.collect(sims + hugadb, pipeline, rules, args.cache_dir, args.jobs,
-                         train.Progress(args.quiet))
+    pipeline, rules = gated_pipeline(enabled), LabelRules()
+    sims = [sim_spec(seed) for seed in range(1, 41)]
+    hugadb = hugadb_specs(args.hugadb)
+    sets = collect(sims + hugadb, pipeline, rules, args.cache_dir, args.jobs, Progress(args.quiet))
     stamps = {}
     for spec, cycle_set in zip(hugadb, sets[len(sims):]):
-        nav = train.navigated(spec, pipeline, args.cache_dir)[0]
+        nav = navigated(spec, pipeline, args.cache_dir)[0]
         _, labelled = lab.majority_labels(nav.start_ns, nav.stamp_ns, nav.truth_stamp_ns,
                                           nav.truth_label, rules.min_majority)
         used = nav.valid & (labelled | lab.non_stride_cycles(nav.start_ns, nav.stamp_ns,
@@ -377,8 +380,8 @@ def gate_loso(args, enabled: bool) -> dict:
     found = [s for s in sets[len(sims):] if len(s.labels)]
     out = {}
     for subject in sorted({s.subject for s in found}):
-        features, labels, _ = train.stack(simulated + [s for s in found if s.subject != subject])
-        model = train.fit_model(features, labels, train.TrainOptions())
+        features, labels, _ = stack(simulated + [s for s in found if s.subject != subject])
+        model = fit_model(features, labels, TrainOptions())
         for s in found:
             if s.subject == subject:
                 out[s.name] = (s.labels, stair_mode(model.predict(s.features), 0.45),
@@ -407,21 +410,21 @@ def print_gate_loso(args):
 
 def print_decision(args):
     """Print the forest's HuGaDB accuracy and recalls by largest probability and by eq. 13."""
-    rules, options = train.LabelRules(), train.TrainOptions(backend='forest')
-    specs = [train.sim_spec(seed) for seed in range(1, 41)] + train.hugadb_specs(args.hugadb)
-    every = [s for s in train.collect(specs, train.Pipeline(), rules, args.cache_dir, args.jobs,
-                                      train.Progress(args.quiet)) if len(s.labels)]
+    rules, options = LabelRules(), TrainOptions(backend='forest')
+    specs = [sim_spec(seed) for seed in range(1, 41)] + hugadb_specs(args.hugadb)
+    every = [s for s in collect(specs, Pipeline(), rules, args.cache_dir, args.jobs,
+                                Progress(args.quiet)) if len(s.labels)]
     print('\nForest decision rule, leave-one-subject-out in the train folds, HuGaDB cycles '
           '(accuracy, recall down / level / up, confusion rows true -1/0/+1):')
     for title, sets in (('simulated + HuGaDB', every),
                         ('HuGaDB alone', [s for s in every if s.source == 'hugadb'])):
-        folds, _ = train.assign_folds(sets, 'subject', 0, 0)
-        features, labels, owner = train.stack(sets)
+        folds, _ = assign_folds(sets, 'subject', 0, 0)
+        features, labels, owner = stack(sets)
         cycle_fold = folds[owner]
         proba = np.empty((len(labels), 3))
         for k in range(int(folds.max()) + 1):
             test = cycle_fold == k
-            model = train.fit_model(features[~test], labels[~test], options)
+            model = fit_model(features[~test], labels[~test], options)
             proba[test] = model.predict_proba(features[test])
         hugadb = np.array([sets[i].source == 'hugadb' for i in owner])
         decisions = [('largest probability', stair_mode(majority_vote_output(proba), 0.0))]
@@ -454,7 +457,7 @@ def main(argv=None) -> int:
                         help='loso: add the +-250 deg/s feet (subjects 4 and 5 have no other)')
     parser.add_argument('--hugadb', type=Path, default=None,
                         help='HuGaDB folder (default: hugadb of the shared data)')
-    parser.add_argument('--cache-dir', type=Path, default=train.default_cache_dir())
+    parser.add_argument('--cache-dir', type=Path, default=default_cache_dir())
     parser.add_argument('--jobs', type=int, default=1)
     parser.add_argument('--quiet', action='store_true')
     args = parser.parse_args(argv)

@@ -54,10 +54,13 @@ from anfis_elevation_ros.core import gait
 from anfis_elevation_ros.core.anfis import Anfis
 from anfis_elevation_ros.core.gait import FEATURE_NAMES, foot_inclination, PATENT_FEATURE_NAMES
 from anfis_elevation_ros.core.height import stair_mode
-from anfis_elevation_ros.tools import train
+from anfis_elevation_ros.tools.cross_validation import input_universe, TrainOptions
 from anfis_elevation_ros.tools.datasets import shared_data_dir
 from anfis_elevation_ros.tools.metrics import confusion_matrix
 from anfis_elevation_ros.tools.train_forest import ForestOptions
+from anfis_elevation_ros.tools.training_data import hugadb_specs, label_recording, LabelRules
+from anfis_elevation_ros.tools.training_recordings import default_cache_dir, navigate_spec
+from anfis_elevation_ros.tools.training_recordings import Pipeline, pipeline_fingerprint
 import numpy as np
 
 CANDIDATES = ('pitch_toe_off_rad', 'pitch_touchdown_rad', 'min_pitch_rad', 'mean_pitch_rad',
@@ -131,14 +134,14 @@ def hugadb_sets(folder: Path, cache: Path) -> list:
             return [(str(name), int(subject), data[f'x{i}'], data[f'y{i}'])
                     for i, (name, subject) in enumerate(zip(data['names'], data['subjects']))]
     recorder = Recorder()
-    rules, pipeline, out = train.LabelRules(), train.Pipeline(), []
-    for spec in train.hugadb_specs(folder):
+    rules, pipeline, out = LabelRules(), Pipeline(), []
+    for spec in hugadb_specs(folder):
         recorder.rows.clear()
-        nav = train.navigate_spec(spec, pipeline)
+        nav = navigate_spec(spec, pipeline)
         extra = np.array(recorder.rows).reshape(-1, len(CANDIDATES))
         assert len(extra) == len(nav.valid)
         nav = dataclasses.replace(nav, features=np.hstack((nav.features, extra)))
-        cycle_set = train.label_recording(spec, nav, rules)
+        cycle_set = label_recording(spec, nav, rules)
         if len(cycle_set.labels):
             out.append((cycle_set.name, spec.subject, cycle_set.features,
                         cycle_set.labels.astype(np.int64)))
@@ -156,10 +159,10 @@ def fit_predict(x_train, y_train, x_test, seed: int, backend: str) -> np.ndarray
     at sigma_th 0.5 (the seed does not change it).
     """
     if backend == 'anfis':
-        options = train.TrainOptions()
+        options = TrainOptions()
         model = Anfis(x_train.shape[1], options.n_mfs, options.mf)
         model.fit(x_train, y_train.astype(float), epochs=options.epochs, ridge=options.ridge,
-                  input_range=train.input_universe(x_train, options.range_quantile))
+                  input_range=input_universe(x_train, options.range_quantile))
         return stair_mode(model.predict(x_test), 0.5)
     from sklearn.ensemble import RandomForestClassifier
     options = ForestOptions(seed=seed)
@@ -263,8 +266,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     folder = args.hugadb or shared_data_dir() / 'hugadb'
     started = time.monotonic()
-    code = hashlib.sha256((train.pipeline_fingerprint() + Path(__file__).read_text()).encode())
-    cache = args.cache or train.default_cache_dir() / f'landing-{code.hexdigest()[:16]}.npz'
+    code = hashlib.sha256((pipeline_fingerprint() + Path(__file__).read_text()).encode())
+    cache = args.cache or default_cache_dir() / f'landing-{code.hexdigest()[:16]}.npz'
     cache.parent.mkdir(parents=True, exist_ok=True)
     sets = hugadb_sets(folder, cache)
     x = np.vstack([s[2] for s in sets])

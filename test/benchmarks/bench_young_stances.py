@@ -34,7 +34,7 @@ from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
 from anfis_elevation_ros.tools.datasets import dataset_files, load_hugadb, load_mad_stairs
 from anfis_elevation_ros.tools.datasets import load_pyshoe_vicon, load_xio
 from anfis_elevation_ros.tools.gdin_hallway import GYRO_RANGE_RPS, load_gdin_walk
-from anfis_elevation_ros.tools.train import hugadb_specs
+from anfis_elevation_ros.tools.training_data import hugadb_specs
 import numpy as np
 
 DEFAULTS = NavigatorParams().zupt
