@@ -167,10 +167,10 @@ def case_no_file(failures):
                 failures.append(f'nofile {imu} tower K {k_m}')
 
 
-def case_random(failures, seeds, label):
+def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=(0.0, 0.0, 0.0)):
     """Run 10-minute ``sim.random_walk`` s without a building file: error at every cycle."""
-    print(f'case random ({label}: random_walk seeds {",".join(map(str, seeds))}, no building '
-          'file, every cycle)')
+    print(f'case random ({label}: random_walk seeds {",".join(map(str, seeds))}, {rate_hz:g} Hz, '
+          f'mounting roll pitch yaw {mounting_rpy_deg} deg, no building file, every cycle)')
     print(f'{"imu":9s} {"walk":22s} {"dur s":>6s} {"cycles":>6s} {"max|err|":>8s} '
           f'{"final":>7s} {"limit":>5s}')
     summaries = []
@@ -179,7 +179,8 @@ def case_random(failures, seeds, label):
         max_errors, misses = [], []
         for rseed in seeds:
             walk = sim.simulate_walk(sim.random_walk(600.0, np.random.default_rng(rseed)),
-                                     rng=np.random.default_rng(rseed), rate_hz=RATE_HZ, imu=imu)
+                                     rng=np.random.default_rng(rseed), rate_hz=rate_hz, imu=imu,
+                                     mounting_rpy_deg=mounting_rpy_deg)
             out = replay(walk)
             err = out['height'] - out['true_height']
             max_errors.append(np.abs(err).max())
@@ -251,6 +252,11 @@ def main(argv=None) -> int:
                         help='random_walk seeds the estimator parameters were chosen on')
     parser.add_argument('--held-out-seeds', default='14,15,16,17,18,19,20',
                         help='random_walk seeds not used to choose anything')
+    parser.add_argument('--rate-hz', type=float, default=RATE_HZ,
+                        help='IMU sample rate of the random walks (random, heldout), Hz')
+    parser.add_argument('--mounting-rpy-deg', type=float, nargs=3, default=(0.0, 0.0, 0.0),
+                        metavar=('ROLL', 'PITCH', 'YAW'),
+                        help='IMU mounting on the foot for the random walks, deg')
     args = parser.parse_args(argv)
     failures = []
     cases = args.cases.split(',')
@@ -261,9 +267,11 @@ def main(argv=None) -> int:
     if 'nofile' in cases:
         case_no_file(failures)
     if 'random' in cases:
-        case_random(failures, [int(v) for v in args.seeds.split(',')], 'random')
+        case_random(failures, [int(v) for v in args.seeds.split(',')], 'random', args.rate_hz,
+                    tuple(args.mounting_rpy_deg))
     if 'heldout' in cases:
-        case_random(failures, [int(v) for v in args.held_out_seeds.split(',')], 'heldout')
+        case_random(failures, [int(v) for v in args.held_out_seeds.split(',')], 'heldout',
+                    args.rate_hz, tuple(args.mounting_rpy_deg))
     if args.out:
         Path(args.out).mkdir(parents=True, exist_ok=True)
         plot_convergence(Path(args.out))
