@@ -324,7 +324,6 @@ def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
     assert wells.climbed_m == pytest.approx(0.0, abs=1e-9)
 
 
-
 def test_the_gaits_prior_weighs_a_flight_once_not_every_stride():
     """Random walk 837: two flights of 4-riser strides of 0.157 m, then one of 2-riser strides."""
     wells = StairwellRiserHeights(0.17)
