@@ -322,25 +322,3 @@ def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
     wells.end_flight(partial(flight_riser_count, -1, down, [1] * 12, low=low, high=high), 0.0)
     assert wells.stairwells == 1
     assert wells.climbed_m == pytest.approx(0.0, abs=1e-9)
-
-
-def test_the_gaits_prior_weighs_a_flight_once_not_every_stride():
-    """Random walk 837: two flights of 4-riser strides of 0.157 m, then one of 2-riser strides."""
-    wells = StairwellRiserHeights(0.17)
-    for direction, start in ((1, (0.0, 0.5)), (-1, (10.0, 0.5))):
-        wells.start_flight(start, direction)
-        for i in range(9):           # 4 x 0.157 = 3 x 0.2093 m; 1.12 m allows both counts
-            wells.add(direction * 0.628, 1.12, (start[0] + direction * 1.12 * (i + 1), 0.5))
-        wells.end_flight(counted(direction * 36))
-    assert wells.estimate_m in (pytest.approx(0.157, abs=0.002), pytest.approx(0.2093, abs=0.002))
-    # Back up, two risers a stride: 0.314 m is 1.5 risers of 0.209 m. Weighed on every stride,
-    # pi(3) / pi(4) = 3 had put 18 x 1.1 nats on 0.209 m, and three such strides were counted
-    # 0.106 m too high each before K moved; weighed once a flight, the first stride moves it.
-    wells.start_flight((-0.1, 0.5), 1)
-    wells.add(0.314, 0.56, (0.46, 0.5))
-    assert wells.estimate_m == pytest.approx(0.157, abs=0.002)
-    likelihood = partial(stride_log_likelihood, 0.628, K_GRID_M, allowed_riser_counts(1.12))
-    at = {k: int(np.argmin(np.abs(K_GRID_M - k))) for k in (0.157, 0.209)}
-    first, later = likelihood(), likelihood(first_of_flight=False)
-    assert first[at[0.209]] - first[at[0.157]] == pytest.approx(np.log(3.0), abs=0.05)
-    assert later[at[0.209]] - later[at[0.157]] == pytest.approx(0.0, abs=0.05)

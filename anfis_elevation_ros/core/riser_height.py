@@ -20,19 +20,15 @@ risers, unknown. K is the maximum of the posterior over a grid of riser heights
 (:data:`K_GRID_M`, 0.13-0.21 m in 1 mm steps, the maximum found between them,
 :func:`grid_peak_m`):
 
-    log p(K | dh) = log p(K) + sum_i log sum_n w_i(n | L_i) N(|dh_i|; n K, sigma^2)
+    log p(K | dh) = log p(K) + sum_i log sum_n pi(n | L_i) N(|dh_i|; n K, sigma^2)
 
 with a weak Gaussian prior p(K) around ``elevation.step_height_m`` (:func:`log_prior`), a
 mixture over the riser count per stride (:func:`stride_log_likelihood`) and the counts a
 stride's horizontal length L_i allows (:func:`allowed_riser_counts`: one tread is
 :data:`TREAD_RANGE_M`), unless its height fits none of them (:func:`stride_riser_counts`: then
-the length is wrong). The weights w_i are the gait's prior pi(n) (:data:`RISER_COUNT_PRIOR`)
-for a flight's first stride and equal for the allowed counts of its other strides: a flight
-is taken step-to, alternating or skipping once, not anew at each stride.
-Sub-harmonics: on this grid K/2 never fits (2 x 0.13 > 0.21), but 2
-risers of 0.195 m look like 3 of 0.13 m, and 4 of 0.157 m like 3 of 0.21 m; the stride
-length tells some apart, pi(n) prefers the commoner gait once a flight, and the next stride
-of another count settles it. A riser height the building
+the length is wrong). Sub-harmonics: on this grid K/2 never fits (2 x 0.13 > 0.21), but 2
+risers of 0.195 m look like 3 of 0.13 m; the stride length tells them apart, and
+pi(n) prefers the smaller count (:data:`RISER_COUNT_PRIOR`). A riser height the building
 file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``).
 
 One estimate per stairwell (``core/stairwells.py``). Before a stride reaches the estimate its
@@ -68,15 +64,7 @@ UNBOUNDED_RISERS = 1000
 """Upper bound of a stride's riser count when its length says nothing."""
 
 RISER_COUNT_PRIOR = np.array([0.4, 0.4, 0.15, 0.05])
-"""
-pi(n), n = 1..4: step-to and alternating gaits are common, skipping steps is rare.
-
-It weighs a flight's first stride only (:func:`stride_log_likelihood`). On every stride it
-compounded: random walk 837 (held out, consumer) took a stairwell of 4-riser strides of
-0.157 m for 3-riser strides of 0.21 m, log(0.15 / 0.05) = 1.1 nats a stride over 18 strides,
-and its next flight, of 2-riser strides, was counted 0.106 m too high a stride for three
-strides (0.337 m against the 0.30 m limit; 0.147 m since).
-"""
+"""pi(n), n = 1..4: step-to and alternating gaits are common, skipping steps is rare."""
 
 TREAD_RANGE_M = (0.20, 0.38)
 """Horizontal depth of one tread, m (codes: 0.22-0.35 m, margin for INS length errors)."""
@@ -219,16 +207,11 @@ def riser_count_bounds(length_m: Optional[float], from_level: bool = False) -> t
 
 
 def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
-                          sigma_m: float = STRIDE_SIGMA_M,
-                          first_of_flight: bool = True) -> np.ndarray:
+                          sigma_m: float = STRIDE_SIGMA_M) -> np.ndarray:
     """
     Log likelihood of one stair stride's raw height change for each riser height.
 
-    p(dh | K) = (1 - eps) sum_{n allowed} w(n) N(|dh|; n K, sigma^2) + eps / (N_max K_max)
-
-    w(n) = pi(n) / sum_{m allowed} pi(m) for a flight's first stride
-    (:data:`RISER_COUNT_PRIOR`), 1 / #allowed for its other strides: the gait is a flight's
-    choice, made once.
+    p(dh | K) = (1 - eps) sum_{n allowed} pi(n) N(|dh|; n K, sigma^2) + eps / (N_max K_max)
 
     The last term (:data:`OUTLIER_PROB`, uniform over 0..N_max K_max) is a stride that fits no
     count (a misclassified cycle, an INS glitch): without it one such stride would drag K to
@@ -244,8 +227,6 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
         From :func:`stride_riser_counts`; None allows every count.
     sigma_m : float
         Noise sigma, m.
-    first_of_flight : bool
-        The flight's first stride: its counts are weighed by pi(n).
 
     Returns
     -------
@@ -253,8 +234,7 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
 
     """
     counts = np.arange(1, MAX_RISERS + 1)
-    prior = RISER_COUNT_PRIOR if first_of_flight else 1.0
-    weights = prior * (np.ones(MAX_RISERS, bool) if allowed is None else allowed)
+    weights = RISER_COUNT_PRIOR * (np.ones(MAX_RISERS, bool) if allowed is None else allowed)
     weights = weights / weights.sum()
     z = (abs(dh_m) - counts[None, :] * np.asarray(k_grid_m)[:, None]) / sigma_m
     terms = np.log(np.maximum(weights * (1.0 - OUTLIER_PROB), 1e-300))[None, :] \
@@ -329,20 +309,13 @@ class RiserHeightEstimator:
             self._prior_in_use = (float(estimate_m), max(
                 RESUMED_SIGMA_M, STRIDE_SIGMA_M / (2.0 * math.sqrt(self.strides))))
 
-    def add(self, dh_m: float, length_m: Optional[float] = None,
-            first_of_flight: bool = True) -> float:
-        """
-        Take one stair stride's raw height change (m) and length (m); return the estimate.
-
-        ``first_of_flight``: as :func:`stride_log_likelihood` (the stride's count weighed by
-        the gait's prior).
-        """
+    def add(self, dh_m: float, length_m: Optional[float] = None) -> float:
+        """Take one stair stride's raw height change (m) and length (m); return the estimate."""
         if not math.isfinite(dh_m):
             raise ValueError(f'RiserHeightEstimator.add: dh_m must be finite, got {dh_m!r}')
         if self.estimating:
             self._log_likelihood = self._log_likelihood + stride_log_likelihood(
-                dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m),
-                first_of_flight=first_of_flight)
+                dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m))
         self.strides += 1
         return self.estimate_m
 
