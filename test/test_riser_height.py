@@ -105,7 +105,7 @@ def test_the_estimate_lies_between_the_grids_points():
     assert grid_peak_m(K_GRID_M, -((K_GRID_M - 0.125) / 0.002) ** 2) == 0.13   # the grid's end
     assert grid_peak_m(K_GRID_M, np.zeros(len(K_GRID_M))) == 0.13                # flat: no peak
     estimator = RiserHeightEstimator(0.17)
-    for _ in range(40):                 # one riser a stride, 0.1475 m, 1 mm of noise
+    for _ in range(40):                 # one riser a stride, 0.1475 m, no noise
         estimator.add(0.1475, 0.28)
     assert estimator.estimate_m == pytest.approx(0.1475, abs=0.0002)
     sigma = 0.004                       # the stride noise of the level strides
