@@ -62,6 +62,7 @@ from anfis_elevation_ros.tools.replay import CYCLE_COLUMNS, replay_recording
 import numpy as np
 
 RATE_HZ = 100.0
+MOUNTING_RPY_DEG = (0.0, 0.0, 0.0)     # the IMU's axes along the foot's
 IMUS = ('tactical', 'consumer')
 RISERS_M = (0.14, 0.155, 0.17, 0.19)
 TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
@@ -167,7 +168,7 @@ def case_no_file(failures):
                 failures.append(f'nofile {imu} tower K {k_m}')
 
 
-def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=(0.0, 0.0, 0.0)):
+def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=MOUNTING_RPY_DEG):
     """Run 10-minute ``sim.random_walk`` s without a building file: error at every cycle."""
     print(f'case random ({label}: random_walk seeds {",".join(map(str, seeds))}, {rate_hz:g} Hz, '
           f'mounting roll pitch yaw {mounting_rpy_deg} deg, no building file, every cycle)')
@@ -254,7 +255,7 @@ def main(argv=None) -> int:
                         help='random_walk seeds not used to choose anything')
     parser.add_argument('--rate-hz', type=float, default=RATE_HZ,
                         help='IMU sample rate of the random walks (random, heldout), Hz')
-    parser.add_argument('--mounting-rpy-deg', type=float, nargs=3, default=(0.0, 0.0, 0.0),
+    parser.add_argument('--mounting-rpy-deg', type=float, nargs=3, default=MOUNTING_RPY_DEG,
                         metavar=('ROLL', 'PITCH', 'YAW'),
                         help='IMU mounting on the foot for the random walks, deg')
     args = parser.parse_args(argv)
