@@ -360,6 +360,23 @@ def test_random_walk_stairs_are_the_buildings_one_geometry_per_storey():
     assert len(per_stride) > 1                                # the wearer's choice varies
 
 
+def test_random_walk_treads_per_storey_leave_the_rest_of_the_walk_as_it_was():
+    default = sim.random_walk(600.0, np.random.default_rng(5))
+    treads = sim.random_walk(600.0, np.random.default_rng(5), tread_range_m=(0.22, 0.36))
+    assert {seg.tread_m for seg in default if seg.kind == 'stairs'} == {0.28}
+    assert [(seg.kind, seg.n_steps, seg.step_height_m, seg.steps_per_stride)
+            for seg in treads] == [(seg.kind, seg.n_steps, seg.step_height_m,
+                                    seg.steps_per_stride) for seg in default]
+    by_storey = {}
+    for lower, flights in _storey_traversals(treads):
+        by_storey.setdefault(lower, set()).update(f.tread_m for f in flights)
+    assert all(len(tread) == 1 for tread in by_storey.values())     # one tread a storey
+    drawn = set().union(*by_storey.values())
+    assert len(drawn) > 2 and all(0.22 <= tread <= 0.36 for tread in drawn)
+    with pytest.raises(InputError, match='tread_range_m'):
+        sim.random_walk(60.0, np.random.default_rng(0), tread_range_m=(0.3, 0.2))
+
+
 def _stair_traversals(segments, strides) -> list:
     """(direction, start xy, end xy, lower floor height) of each storey walked, from the truth."""
     on_stairs = np.array([segments[k].kind == 'stairs' or (

@@ -173,7 +173,8 @@ def tower_walk(route, *, storey_steps=(26, 18, 18, 18, 18), step_height_m: float
 def random_walk(duration_s: float, rng: np.random.Generator, *,
                 step_height_range_m: tuple = (0.14, 0.19),
                 steps_per_stride_weights: tuple = (0.35, 0.5, 0.1, 0.05),
-                max_floors: int = 3, gait: GaitParams = GaitParams()) -> tuple:
+                max_floors: int = 3, gait: GaitParams = GaitParams(),
+                tread_range_m: tuple = (0.28, 0.28)) -> tuple:
     """
     Plan a random mixture of level walking, stair flights, turns and stops (training data).
 
@@ -197,6 +198,9 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
     strides walked since the plan's start (about 0.5 m after 10 minutes). The floor stays
     within +-``max_floors`` storeys of the start.
 
+    Each storey's tread depth is drawn from ``tread_range_m`` (``_draw_treads``), apart from
+    its riser height, so 2R + G need not obey a building code.
+
     Returns
     -------
     tuple of Segment, for simulate_walk (its duration is within a few strides of duration_s).
@@ -214,8 +218,12 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
                          'non-negative weights for 1, 2, 3, 4 steps per stride')
     weights = weights / weights.sum()
     check_range('max_floors', max_floors, 1, 100)
+    check_range('tread_range_m[0]', tread_range_m[0], 0.15, 0.50)
+    check_range('tread_range_m[1]', tread_range_m[1], tread_range_m[0], 0.50)
     budget = duration_s - DEFAULT_INITIAL_STAND_S - DEFAULT_FINAL_STAND_S
-    storeys = {f: _draw_staircase(rng, (low, high)) for f in range(-max_floors, max_floors)}
+    floors = range(-max_floors, max_floors)
+    treads = _draw_treads(rng, tread_range_m, len(floors))
+    storeys = {f: _draw_staircase(rng, (low, high), tread) for f, tread in zip(floors, treads)}
     segments = []
     elapsed = 0.0
     floor = 0
@@ -257,6 +265,7 @@ class _Staircase(NamedTuple):
     """
 
     step_height_m: float
+    tread_m: float
     steps_per_flight: int
     flights: int
     foot_xy_m: tuple
@@ -264,7 +273,22 @@ class _Staircase(NamedTuple):
     landing_side: float
 
 
-def _draw_staircase(rng: np.random.Generator, step_height_range_m: tuple) -> _Staircase:
+def _draw_treads(rng: np.random.Generator, tread_range_m: tuple, storeys: int) -> list:
+    """
+    Draw each storey's tread depth, m, from a generator spawned from ``rng``.
+
+    Spawning leaves ``rng``'s own draws as they are, so a walk with treads drawn is the
+    default walk (one tread everywhere) with other treads.
+    """
+    low, high = tread_range_m
+    if low == high:
+        return [float(low)] * storeys
+    tread_rng = rng.spawn(1)[0]
+    return [draw_uniform(tread_rng, tread_range_m) for _ in range(storeys)]
+
+
+def _draw_staircase(rng: np.random.Generator, step_height_range_m: tuple,
+                    tread_m: float) -> _Staircase:
     """Draw one storey's stairs: riser height, steps per flight, flights, place and heading."""
     step_height_m = draw_uniform(rng, step_height_range_m)
     steps = int(rng.integers(6, 21))
@@ -272,7 +296,7 @@ def _draw_staircase(rng: np.random.Generator, step_height_range_m: tuple) -> _St
     foot = (draw_uniform(rng, (-10.0, 10.0)), draw_uniform(rng, (-10.0, 10.0)))
     up_yaw = 0.5 * math.pi * int(rng.integers(4))
     side = float(rng.choice((-1.0, 1.0)))
-    return _Staircase(step_height_m, steps, flights, foot, up_yaw, side)
+    return _Staircase(step_height_m, tread_m, steps, flights, foot, up_yaw, side)
 
 
 def _stair_flights(stairs: _Staircase, direction: int, steps_per_stride: int = 2) -> list:
@@ -289,7 +313,8 @@ def _stair_flights(stairs: _Staircase, direction: int, steps_per_stride: int = 2
             segments.append(Segment.level(2, turn_deg=180.0 * side, stride_length_m=0.7))
         segments.append(Segment.stairs(stairs.steps_per_flight, direction,
                                        steps_per_stride=steps_per_stride,
-                                       step_height_m=stairs.step_height_m))
+                                       step_height_m=stairs.step_height_m,
+                                       tread_m=stairs.tread_m))
     return segments
 
 

@@ -63,6 +63,7 @@ import numpy as np
 
 RATE_HZ = 100.0
 MOUNTING_RPY_DEG = (0.0, 0.0, 0.0)     # the IMU's axes along the foot's
+TREAD_RANGE_M = (0.28, 0.28)           # one tread everywhere: 2R + G = 0.56-0.66 m
 IMUS = ('tactical', 'consumer')
 RISERS_M = (0.14, 0.155, 0.17, 0.19)
 TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
@@ -168,10 +169,12 @@ def case_no_file(failures):
                 failures.append(f'nofile {imu} tower K {k_m}')
 
 
-def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=MOUNTING_RPY_DEG):
+def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=MOUNTING_RPY_DEG,
+                tread_range_m=TREAD_RANGE_M):
     """Run 10-minute ``sim.random_walk`` s without a building file: error at every cycle."""
     print(f'case random ({label}: random_walk seeds {",".join(map(str, seeds))}, {rate_hz:g} Hz, '
-          f'mounting roll pitch yaw {mounting_rpy_deg} deg, no building file, every cycle)')
+          f'mounting roll pitch yaw {mounting_rpy_deg} deg, treads {tread_range_m} m, '
+          'no building file, every cycle)')
     print(f'{"imu":9s} {"walk":22s} {"dur s":>6s} {"cycles":>6s} {"max|err|":>8s} '
           f'{"final":>7s} {"limit":>5s}')
     summaries = []
@@ -179,7 +182,9 @@ def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=MOUNTI
         limit = 0.15 if imu == 'tactical' else 0.30
         max_errors, misses = [], []
         for rseed in seeds:
-            walk = sim.simulate_walk(sim.random_walk(600.0, np.random.default_rng(rseed)),
+            plan = sim.random_walk(600.0, np.random.default_rng(rseed),
+                                   tread_range_m=tread_range_m)
+            walk = sim.simulate_walk(plan,
                                      rng=np.random.default_rng(rseed), rate_hz=rate_hz, imu=imu,
                                      mounting_rpy_deg=mounting_rpy_deg)
             out = replay(walk)
@@ -258,6 +263,9 @@ def main(argv=None) -> int:
     parser.add_argument('--mounting-rpy-deg', type=float, nargs=3, default=MOUNTING_RPY_DEG,
                         metavar=('ROLL', 'PITCH', 'YAW'),
                         help='IMU mounting on the foot for the random walks, deg')
+    parser.add_argument('--tread-range-m', type=float, nargs=2, default=TREAD_RANGE_M,
+                        metavar=('LOW', 'HIGH'),
+                        help='tread depth of the stairs of the random walks, drawn per storey, m')
     args = parser.parse_args(argv)
     failures = []
     cases = args.cases.split(',')
@@ -269,10 +277,10 @@ def main(argv=None) -> int:
         case_no_file(failures)
     if 'random' in cases:
         case_random(failures, [int(v) for v in args.seeds.split(',')], 'random', args.rate_hz,
-                    tuple(args.mounting_rpy_deg))
+                    tuple(args.mounting_rpy_deg), tuple(args.tread_range_m))
     if 'heldout' in cases:
         case_random(failures, [int(v) for v in args.held_out_seeds.split(',')], 'heldout',
-                    args.rate_hz, tuple(args.mounting_rpy_deg))
+                    args.rate_hz, tuple(args.mounting_rpy_deg), tuple(args.tread_range_m))
     if args.out:
         Path(args.out).mkdir(parents=True, exist_ok=True)
         plot_convergence(Path(args.out))
