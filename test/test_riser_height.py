@@ -20,7 +20,6 @@ from anfis_elevation_ros.core.riser_height import allowed_riser_counts, grid_pea
 from anfis_elevation_ros.core.riser_height import height_checked_mode
 from anfis_elevation_ros.core.riser_height import K_GRID_M, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
-from anfis_elevation_ros.core.riser_height import step_formula_weight
 from anfis_elevation_ros.core.riser_height import stride_log_likelihood, stride_riser_counts
 from anfis_elevation_ros.core.stair_steps import flight_riser_count
 from anfis_elevation_ros.core.stairwells import StairwellRiserHeights
@@ -70,31 +69,6 @@ def test_two_risers_of_0_195_are_not_three_of_0_13():
         for _ in counts:
             estimator.add(0.39, counts[0] * TREAD_M)
         assert estimator.estimate_m == pytest.approx(k_m, abs=0.0015)
-
-
-@pytest.mark.parametrize('counts, k_m, length_m', [(4, 0.1571, 1.06), (3, 0.1893, 0.84)])
-def test_the_step_formula_tells_a_count_from_its_neighbour(counts, k_m, length_m):
-    """
-    Random walks 837 and 486: n risers of K that n -+ 1 risers of another K also make.
-
-    Four risers of 0.1571 m are three of 0.2094 m, a count pi(n) prefers 3 : 1 (walk 837);
-    three of 0.1893 m are four of 0.142 m (486, which pi(n) alone reads right). The strides'
-    lengths allow both counts (treads of 0.20-0.38 m), but 2R + G of the other reading,
-    0.77 m and 0.49 m, is no staircase's.
-    """
-    rng = np.random.default_rng(counts)
-    stairwells = StairwellRiserHeights(0.17)
-    stairwells.start_flight((0.0, 0.0), 1, 0.0)
-    for dh in counts * k_m + rng.normal(0.0, 0.01, 18):
-        stairwells.add(dh, length_m, (0.0, 0.0), 0.01)
-    assert stairwells.estimate_m == pytest.approx(k_m, abs=0.003)
-
-
-def test_step_formula_weight():
-    weight = step_formula_weight(0.628, 1.12, 0.02)
-    assert weight[3] > 0.9                                  # 4 x 0.157 m: 2R + G = 0.59 m
-    assert weight[2] == pytest.approx(0.05, abs=0.001)      # 3 x 0.209 m: 0.79 m, eps only
-    assert (step_formula_weight(0.628, None) == 1.0).all()
 
 
 def test_before_stairs_the_prior_and_with_a_file_the_files_height():
@@ -326,19 +300,14 @@ def test_the_flight_under_the_end_of_another_storeys_stairs_is_not_them():
 
 
 def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
-    """
-    Random walk 159: up 4 risers of 0.152 m a stride, read as 3 of 0.203, then back down.
-
-    The strides up have no length here (a lost position): the step formula cannot tell the
-    readings apart, and pi(n) takes three risers.
-    """
+    """Random walk 159: up 4 risers of 0.152 m a stride, read as 3 of 0.203, then back down."""
     wells = StairwellRiserHeights(0.17)
     wells.start_flight((0.0, 0.0), 1, 0.0)
     up = [0.608, 0.610, 0.607]
     for i, dh in enumerate(up):
-        wells.add(dh, None, (1.12 * (i + 1), 0.0))
+        wells.add(dh, 1.12, (1.12 * (i + 1), 0.0))
     assert wells.estimate_m == pytest.approx(0.203, abs=0.002)
-    bounds = [riser_count_bounds(None)] * 3
+    bounds = [riser_count_bounds(1.12)] * 3
     low, high = zip(*bounds)
     wells.end_flight(partial(flight_riser_count, 1, up, [1, 1, 1], low=low, high=high), 1.82)
     assert wells.climbed_m == pytest.approx(9 * 0.203, abs=0.02)

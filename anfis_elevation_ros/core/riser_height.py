@@ -28,17 +28,14 @@ stride's horizontal length L_i allows (:func:`allowed_riser_counts`: one tread i
 :data:`TREAD_RANGE_M`), unless its height fits none of them (:func:`stride_riser_counts`: then
 the length is wrong). Sub-harmonics: on this grid K/2 never fits (2 x 0.13 > 0.21), but 2
 risers of 0.195 m look like 3 of 0.13 m; the stride length tells them apart, and
-pi(n) prefers the smaller count (:data:`RISER_COUNT_PRIOR`). Where the length allows both
-counts (4 risers of 0.157 m or 3 of 0.209 m over 1.12 m), the building codes' step formula
-2R + G does (:func:`step_formula_weight`). A riser height the building
+pi(n) prefers the smaller count (:data:`RISER_COUNT_PRIOR`). A riser height the building
 file gives replaces the estimate (:class:`RiserHeightEstimator` with ``known_m``).
 
 One estimate per stairwell (``core/stairwells.py``). Before a stride reaches the estimate its
 slope error is removed, and its noise sigma is the level strides' (``core/level_strides.py``).
 
 Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`stride_riser_counts`,
-:func:`riser_count_bounds`, :func:`height_checked_mode`, :func:`step_formula_weight`,
-:func:`stride_log_likelihood`,
+:func:`riser_count_bounds`, :func:`height_checked_mode`, :func:`stride_log_likelihood`,
 :class:`RiserHeightEstimator`, :func:`grid_peak_m`, :func:`log_sum_exp`,
 :func:`known_riser_height_m`,
 :data:`K_GRID_M`.
@@ -46,7 +43,6 @@ Public API: :func:`log_prior`, :func:`allowed_riser_counts`, :func:`stride_riser
 References
 ----------
 [1] Patent CN111649742A, eq. (14): the height is a whole number of risers K.
-[2] UK Approved Document K (2013 edition), Table 1.1: 2R + G between 550 and 700 mm.
 
 """
 
@@ -81,15 +77,6 @@ PRIOR_SIGMA_M = 0.02
 
 RESUMED_SIGMA_M = 0.001
 """Narrowest prior of a resumed estimate, m (the grid step)."""
-
-STEP_FORMULA_M = (0.55, 0.70)
-"""Building codes' step formula: riser R and going G of one step have 2R + G in this range, m."""
-
-STRIDE_LENGTH_SIGMA_M = 0.05
-"""Sigma of a stair stride's horizontal length about n goings, m (foot placement and INS).
-
-The real two-riser strides of ``mad_stairs`` read 0.60-0.78 m, most within 0.03 m of 0.66 m.
-"""
 
 
 def log_prior(k_grid_m: np.ndarray, prior_m: float, sigma_m: float = PRIOR_SIGMA_M):
@@ -219,56 +206,16 @@ def riser_count_bounds(length_m: Optional[float], from_level: bool = False) -> t
     return int(counts[0]), int(counts[-1])
 
 
-def step_formula_weight(dh_m: float, length_m: Optional[float],
-                        sigma_m: float = STRIDE_SIGMA_M) -> np.ndarray:
-    """
-    How well each riser count n fits a stride's height and length by the step formula.
-
-        w(n) = (1 - eps) [Phi((B - r_n) / s_n) - Phi((A - r_n) / s_n)] + eps
-        r_n = 2 |dh| / n + L / n,    s_n = sqrt(sigma_L^2 + 4 sigma^2) / n
-
-    r_n is 2R + G of the step the reading n gives (riser |dh| / n, going L / n), [A, B]
-    :data:`STEP_FORMULA_M`, sigma_L :data:`STRIDE_LENGTH_SIGMA_M`, sigma the stride's height
-    noise and eps :data:`OUTLIER_PROB` (a length the INS got wrong). Four risers of 0.157 m
-    and three of 0.209 m both make 0.628 m; over a stride of 1.12 m the first gives
-    r = 0.59 m, the second 0.79 m (random walk 837). Evaluated at the riser height the count
-    itself gives, not at every K: inside a reading w does not move K (a w of K pulls K
-    towards the middle of the range, 1.8 mm over 40 strides of 0.1475 m risers and 0.28 m
-    treads). None (a length unknown) weighs every count alike.
-
-    Returns
-    -------
-    (MAX_RISERS,) array, entry n-1 for n risers.
-
-    """
-    if length_m is None or not math.isfinite(length_m):
-        return np.ones(MAX_RISERS)
-    counts = np.arange(1, MAX_RISERS + 1)
-    rule_m = (2.0 * abs(dh_m) + length_m) / counts
-    spread_m = math.hypot(STRIDE_LENGTH_SIGMA_M, 2.0 * sigma_m) / counts
-    low, high = STEP_FORMULA_M
-    inside = np.array([_normal_cdf((high - r) / s) - _normal_cdf((low - r) / s)
-                       for r, s in zip(rule_m, spread_m)])
-    return (1.0 - OUTLIER_PROB) * inside + OUTLIER_PROB
-
-
-def _normal_cdf(z: float) -> float:
-    return 0.5 * (1.0 + math.erf(z / math.sqrt(2.0)))
-
-
 def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
-                          sigma_m: float = STRIDE_SIGMA_M,
-                          going_length_m: Optional[float] = None) -> np.ndarray:
+                          sigma_m: float = STRIDE_SIGMA_M) -> np.ndarray:
     """
     Log likelihood of one stair stride's raw height change for each riser height.
 
-    p(dh | K) = (1 - eps) sum_{n allowed} pi(n) w(n) N(|dh|; n K, sigma^2) + eps / (N_max K_max)
+    p(dh | K) = (1 - eps) sum_{n allowed} pi(n) N(|dh|; n K, sigma^2) + eps / (N_max K_max)
 
     The last term (:data:`OUTLIER_PROB`, uniform over 0..N_max K_max) is a stride that fits no
     count (a misclassified cycle, an INS glitch): without it one such stride would drag K to
-    the edge of the grid. w(n) is :func:`step_formula_weight` of the stride's length on
-    the stairs (``going_length_m``; None for a flight's first stride, whose length includes
-    floor before the stairs).
+    the edge of the grid.
 
     Parameters
     ----------
@@ -280,8 +227,6 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
         From :func:`stride_riser_counts`; None allows every count.
     sigma_m : float
         Noise sigma, m.
-    going_length_m : float or None
-        The stride's horizontal length L on the stairs, m, for w(n).
 
     Returns
     -------
@@ -290,7 +235,7 @@ def stride_log_likelihood(dh_m: float, k_grid_m: np.ndarray, allowed=None,
     """
     counts = np.arange(1, MAX_RISERS + 1)
     weights = RISER_COUNT_PRIOR * (np.ones(MAX_RISERS, bool) if allowed is None else allowed)
-    weights = weights / weights.sum() * step_formula_weight(dh_m, going_length_m, sigma_m)
+    weights = weights / weights.sum()
     z = (abs(dh_m) - counts[None, :] * np.asarray(k_grid_m)[:, None]) / sigma_m
     terms = np.log(np.maximum(weights * (1.0 - OUTLIER_PROB), 1e-300))[None, :] \
         - 0.5 * z ** 2 - math.log(math.sqrt(2.0 * math.pi) * sigma_m)
@@ -370,7 +315,7 @@ class RiserHeightEstimator:
             raise ValueError(f'RiserHeightEstimator.add: dh_m must be finite, got {dh_m!r}')
         if self.estimating:
             self._log_likelihood = self._log_likelihood + stride_log_likelihood(
-                dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m), going_length_m=length_m)
+                dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m))
         self.strides += 1
         return self.estimate_m
 

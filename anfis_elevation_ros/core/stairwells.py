@@ -134,8 +134,7 @@ class StairwellRiserHeights:
         if self._flight_log_likelihood is None:
             self.start_flight()
         self._flight_log_likelihood += stride_log_likelihood(
-            dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m, from_level, sigma_m), sigma_m,
-            None if from_level else length_m)
+            dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m, from_level, sigma_m), sigma_m)
         self._flight_strides += 1
         self._flight_end_xy = end_xy
         same_stairs = self._stairwell_ending_near(self._flight_start_xy)
