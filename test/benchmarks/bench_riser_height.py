@@ -184,9 +184,8 @@ def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=MOUNTI
         for rseed in seeds:
             plan = sim.random_walk(600.0, np.random.default_rng(rseed),
                                    tread_range_m=tread_range_m)
-            walk = sim.simulate_walk(plan,
-                                     rng=np.random.default_rng(rseed), rate_hz=rate_hz, imu=imu,
-                                     mounting_rpy_deg=mounting_rpy_deg)
+            walk = sim.simulate_walk(plan, rng=np.random.default_rng(rseed), rate_hz=rate_hz,
+                                     imu=imu, mounting_rpy_deg=mounting_rpy_deg)
             out = replay(walk)
             err = out['height'] - out['true_height']
             max_errors.append(np.abs(err).max())
