@@ -364,6 +364,7 @@ def test_random_walk_treads_per_storey_leave_the_rest_of_the_walk_as_it_was():
     default = sim.random_walk(600.0, np.random.default_rng(5))
     treads = sim.random_walk(600.0, np.random.default_rng(5), tread_range_m=(0.22, 0.36))
     assert {seg.tread_m for seg in default if seg.kind == 'stairs'} == {0.28}
+
     def without_treads(plan):
         return [(seg.kind, seg.n_steps, seg.step_height_m, seg.steps_per_stride) for seg in plan]
 
