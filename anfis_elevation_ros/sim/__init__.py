@@ -29,18 +29,19 @@ Public API: ``Segment``, ``GaitParams``, ``ImuErrorModel``, ``IMU_PRESETS``, ``i
 ``StrideTruth``, ``SimulatedWalk``, ``simulate_walk``, ``apply_imu_errors``, ``interval_means``,
 ``knot_profile``, ``building_walk``, ``tower_walk``, ``tower_floor_elevations_m``, ``random_walk``,
 ``sample_walk``, ``nominal_duration_s``,
-``EPOCH_NS``, ``DEFAULT_INITIAL_STAND_S``, ``DEFAULT_FINAL_STAND_S``.
+``EPOCH_NS``, ``DEFAULT_INITIAL_STAND_S``, ``DEFAULT_FINAL_STAND_S``, ``DEFAULT_TREAD_M``.
 """
 
 from .imu_errors import apply_imu_errors, imu_error_model, IMU_PRESETS, ImuErrorModel
 from .motion import knot_profile
-from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, EPOCH_NS, GaitParams, Segment
+from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, DEFAULT_TREAD_M, EPOCH_NS
+from .plan import GaitParams, Segment
 from .scenarios import building_walk, nominal_duration_s, random_walk, sample_walk
 from .scenarios import tower_floor_elevations_m, tower_walk
 from .walk import interval_means, simulate_walk, SimulatedWalk, StrideTruth
 
 __all__ = ['apply_imu_errors', 'building_walk', 'DEFAULT_FINAL_STAND_S',
-           'DEFAULT_INITIAL_STAND_S', 'EPOCH_NS', 'GaitParams', 'IMU_PRESETS', 'imu_error_model',
-           'ImuErrorModel', 'interval_means', 'knot_profile', 'nominal_duration_s',
-           'random_walk', 'sample_walk', 'Segment', 'simulate_walk', 'SimulatedWalk',
-           'StrideTruth', 'tower_floor_elevations_m', 'tower_walk']
+           'DEFAULT_INITIAL_STAND_S', 'DEFAULT_TREAD_M', 'EPOCH_NS', 'GaitParams', 'IMU_PRESETS',
+           'imu_error_model', 'ImuErrorModel', 'interval_means', 'knot_profile',
+           'nominal_duration_s', 'random_walk', 'sample_walk', 'Segment', 'simulate_walk',
+           'SimulatedWalk', 'StrideTruth', 'tower_floor_elevations_m', 'tower_walk']

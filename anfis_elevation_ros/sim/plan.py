@@ -15,7 +15,8 @@
 """
 The walk plan: segments of a walk and the ranges of the gait values drawn for each stride.
 
-Public API: ``Segment``, ``GaitParams``, ``EPOCH_NS`` and the default stand times.
+Public API: ``Segment``, ``GaitParams``, ``EPOCH_NS``, ``DEFAULT_TREAD_M`` and the default stand
+times.
 """
 
 from dataclasses import dataclass, fields
@@ -30,6 +31,7 @@ DEFAULT_FINAL_STAND_S = 2.0
 MIN_INITIAL_STAND_S = 2.0
 STAND_S = 1.0                  # a stance this long or longer is standing (GaitParams sway)
 SEGMENT_KINDS = ('level', 'stairs', 'turn', 'stand')
+DEFAULT_TREAD_M = 0.28        # tread depth of a flight, m: 2R + G = 0.56-0.66 m for R 0.14-0.19 m
 DEG = math.pi / 180.0
 
 
@@ -61,7 +63,7 @@ class Segment:
     direction: int = 0
     steps_per_stride: int = 2
     step_height_m: float | None = None
-    tread_m: float = 0.28
+    tread_m: float = DEFAULT_TREAD_M
     turn_deg: float = 0.0
     stride_length_m: float | None = None
     duration_s: float = 0.0
@@ -98,7 +100,7 @@ class Segment:
 
     @classmethod
     def stairs(cls, n_steps: int, direction: int, *, steps_per_stride: int = 2,
-               step_height_m: float | None = None, tread_m: float = 0.28) -> 'Segment':
+               step_height_m: float | None = None, tread_m: float = DEFAULT_TREAD_M) -> 'Segment':
         """Walk one straight flight of ``n_steps`` steps up (+1) or down (-1)."""
         return cls('stairs', n_steps=int(n_steps), direction=int(direction),
                    steps_per_stride=int(steps_per_stride), step_height_m=step_height_m,

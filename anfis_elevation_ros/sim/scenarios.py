@@ -27,7 +27,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .motion import draw_uniform, segment_strides
-from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, GaitParams, Segment
+from .plan import DEFAULT_FINAL_STAND_S, DEFAULT_INITIAL_STAND_S, DEFAULT_TREAD_M, GaitParams
+from .plan import Segment
 from ..core.errors import InputError
 from ..core.validation import check_range
 
@@ -174,7 +175,7 @@ def random_walk(duration_s: float, rng: np.random.Generator, *,
                 step_height_range_m: tuple = (0.14, 0.19),
                 steps_per_stride_weights: tuple = (0.35, 0.5, 0.1, 0.05),
                 max_floors: int = 3, gait: GaitParams = GaitParams(),
-                tread_range_m: tuple = (0.28, 0.28)) -> tuple:
+                tread_range_m: tuple = (DEFAULT_TREAD_M, DEFAULT_TREAD_M)) -> tuple:
     """
     Plan a random mixture of level walking, stair flights, turns and stops (training data).
 

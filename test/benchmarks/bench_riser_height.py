@@ -63,7 +63,7 @@ import numpy as np
 
 RATE_HZ = 100.0
 MOUNTING_RPY_DEG = (0.0, 0.0, 0.0)     # the IMU's axes along the foot's
-TREAD_RANGE_M = (0.28, 0.28)           # one tread everywhere: 2R + G = 0.56-0.66 m
+TREAD_RANGE_M = (sim.DEFAULT_TREAD_M,) * 2   # one tread everywhere: 2R + G = 0.56-0.66 m
 IMUS = ('tactical', 'consumer')
 RISERS_M = (0.14, 0.155, 0.17, 0.19)
 TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
