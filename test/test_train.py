@@ -196,15 +196,18 @@ def test_nested_threshold_never_sees_the_fold_it_scores():
     assert nested_cv(sets[:2], two, [options], [output[:120]]) == (None, None, None)
 
 
-def test_nested_forest_setting_is_chosen_without_the_fold_it_scores():
+def test_nested_forest_setting_is_chosen_without_the_fold_it_scores(monkeypatch):
     """
     The forest's max_features of fold k comes from an inner CV over the other folds.
 
     Four subjects; the mode hangs on the first of the sixteen features only, so trying all
     sixteen at a split (1.0) beats one drawn at random (1/16) in every inner CV. Fold k's choice
-    is made on the other folds alone: the same when its own labels are replaced by noise.
+    is made on the other folds alone: every inner model is trained without fold k and the fold
+    it predicts, the choice of fold k is scored on the cycles of the other folds, and it is the
+    same when fold k's own labels are replaced by noise.
     """
     pytest.importorskip('sklearn')
+    from anfis_elevation_ros.tools import cross_validation
     rng = np.random.default_rng(7)
     sets = [_noisy_cycle_set(rng, s) for s in (1, 2, 3, 4)]
     folds, _ = assign_folds(sets, 'subject')
@@ -212,10 +215,26 @@ def test_nested_forest_setting_is_chosen_without_the_fold_it_scores():
     candidates = candidate_options(base, [1 / 16, 1.0])
     assert [c.forest.max_features for c in candidates] == [1 / 16, 1.0]
     outputs = [cross_validate(sets, folds, c) for c in candidates]
+    features, labels, owner = stack(sets)
+    fold_of_row = {row.tobytes(): int(folds[i]) for row, i in zip(features, owner)}
+    trained_on, scored_on = [], []
+
+    def fit_recording_folds(features, labels, options):
+        trained_on.append({fold_of_row[row.tobytes()] for row in features})
+        return fit_model(features, labels, options)
+
+    def choose_recording_size(labels, outputs, grid):
+        scored_on.append(len(labels))
+        return choose_setting(labels, outputs, grid)
+
+    monkeypatch.setattr(cross_validation, 'fit_model', fit_recording_folds)
+    monkeypatch.setattr(cross_validation, 'choose_setting', choose_recording_size)
     choices, thresholds, predicted = nested_cv(sets, folds, candidates, outputs,
                                                grid=train.FOREST_THRESHOLD_GRID)
+    monkeypatch.undo()
+    assert len(trained_on) == 4 * 3 * 2 and all(len(f) == 2 for f in trained_on)
+    assert scored_on == [int((folds[owner] != k).sum()) for k in range(4)]
     assert choices.tolist() == [1, 1, 1, 1] and thresholds.tolist() == [0.0] * 4
-    _, labels, owner = stack(sets)
     assert predicted.tolist() == stair_mode(outputs[1], 0.0).tolist()
     chosen, threshold, _ = choose_setting(labels, outputs, train.FOREST_THRESHOLD_GRID)
     assert (chosen, threshold) == (1, 0.0)
