@@ -402,14 +402,27 @@ def test_a_restart_resumes_only_when_the_sensor_stamps_continue(
 
 
 def test_malformed_cycle_message_is_skipped(live, clean):
-    """A gait_cycle message of another layout is counted and not classified."""
+    """
+    A gait_cycle message of another layout is counted and not classified: no elevation.
+
+    The same cycle in the right layout then is classified and its elevation reaches the
+    listener, so the counters and the listener checked for the bad one could have seen it.
+    """
     samples, cycles = clean
+    assert cycles[0].valid
     run = live(classifier=True)
+    assert run.spin_until(lambda: run.listener.count_publishers('elevation') >= 1)
     msg = cycle_to_msg(cycles[0], 'odom', 1, 1)
     msg.fields = msg.fields[:-1]
     run.classifier._on_cycle(msg)
+    run.spin_until(lambda: False, 0.3)                  # time for an elevation to arrive
     assert run.classifier_count('malformed') == 1
+    assert [run.classifier_count(key) for key in (
+        'classified', 'invalid_cycles', 'already_counted', 'internal_errors')] == [0, 0, 0, 0]
     assert run.listener.elevations == []
+    run.classifier._on_cycle(cycle_to_msg(cycles[0], 'odom', 1, 1))
+    assert run.classifier_count('classified') == 1 and run.classifier_count('malformed') == 1
+    assert run.spin_until(lambda: len(run.listener.elevations) == 1, 5.0)
 
 
 def test_bad_parameter_changes_are_refused_with_a_reason(live):

@@ -238,17 +238,24 @@ def test_diagnostics_keep_contact_before_tracking_begins():
 
 
 def test_every_log_entry_has_its_time():
-    incident, clock = make_incident()
-    stand_still_until(incident, clock, 31.0)
+    """Each log entry (and CSV row) carries the wall-clock time of its own event."""
+    clock = FakeClock()
+    wall = FakeClock(1_800_000_000.0)           # the wall clock runs with the monotonic one
+    incident = Incident(clock=clock, wall_clock=lambda: wall.t + clock.t)
+    stand_still_until(incident, clock, 31.0)    # joined at 0 s, pre-alarm at 20 s, alarm at 30 s
+    wall.t += 3628.75                           # the commander acknowledges an hour later
     incident.acknowledge(alarms_of(incident)['no_motion']['id'], 'IC')
     log = incident.snapshot()['log']
     assert [e['event'] for e in log] == ['joined', 'raised', 'raised', 'acknowledged']
-    for entry in log:
-        assert entry['time_unix_s'] == 1_800_000_000.0
-        assert entry['time_utc'] == '2027-01-15T08:00:00Z'
+    assert [e['time_unix_s'] for e in log] == [1_800_000_000.0, 1_800_000_020.0,
+                                               1_800_000_030.0, 1_800_003_660.25]
+    assert [e['time_utc'] for e in log] == ['2027-01-15T08:00:00Z', '2027-01-15T08:00:20Z',
+                                            '2027-01-15T08:00:30Z', '2027-01-15T09:01:00Z']
     csv_lines = incident.log_csv().splitlines()
     assert csv_lines[0].startswith('seq,time_utc,time_unix_s,responder,event,alarm_id')
     assert len(csv_lines) == 5 and ',acknowledged,' in csv_lines[-1]
+    assert [line.split(',')[1:3] for line in csv_lines[1:]] == [
+        [e['time_utc'], str(e['time_unix_s'])] for e in log]
 
 
 @pytest.mark.parametrize('kwargs', [{'no_motion_prealarm_s': 0}, {'lost_contact_s': -1},

@@ -143,7 +143,10 @@ def test_track_is_a_bounded_ring_of_crumbs_half_a_metre_apart():
 
 
 def test_memory_stays_bounded_with_many_responders_and_a_long_incident(monkeypatch):
+    """Tracks keep TRACK_POINTS crumbs; the log keeps its bound of entries and counts the rest."""
     monkeypatch.setattr(incident_module, 'TRACK_POINTS', 50)
+    log_bound = 300                               # MAX_LOG_ENTRIES, small enough to reach
+    monkeypatch.setattr(incident_module.IncidentLog.__init__, '__defaults__', (log_bound,))
     clock = FakeClock()
     incident = Incident(clock=clock)
     for step in range(400):
@@ -151,10 +154,17 @@ def test_memory_stays_bounded_with_many_responders_and_a_long_incident(monkeypat
         for k in range(50):
             incident.update_pose(f'/ff{k}', step, step * 1.0, k, 0.0, 0.0, 0.5)
         incident.tick()
+        if step % 50 == 49:                       # 8 roll calls of 51 entries each
+            incident.roll_call('IC')
     state = incident.snapshot()
     assert len(state['responders']) == 50
     assert all(len(r['track']) == 50 for r in state['responders'])
-    assert len(state['log']) <= 200
+    written = 50 + 8 * 51                         # the joins and the roll calls
+    assert len(incident._log._entries) == log_bound
+    assert incident._log.dropped == written - log_bound > 0
+    # The newest entries are the ones kept: the last roll call's last line is the last entry.
+    assert state['log'][-1]['event'] == 'roll call' and state['log'][-1]['responder'] == '/ff9'
+    assert len(state['log']) == 200
 
 
 def test_events_since_sends_changed_responders_new_crumbs_and_log():

@@ -15,8 +15,10 @@
 """Tests of the forest backend: JSON inference equals scikit-learn, damaged files refused."""
 
 import json
+import math
 import subprocess
 import sys
+import time
 
 from anfis_elevation_ros.core.anfis import Anfis, grid_partition
 from anfis_elevation_ros.core.classifier import AnfisClassifier, backend_name, load_classifier
@@ -144,18 +146,26 @@ def test_load_classifier_picks_the_backend_by_format(tmp_path):
 
 
 def test_warm_up_classifies_one_cycle_of_every_feature(trained):
-    """A node warms its classifier at start (the forest's numba code): one whole feature row."""
+    """
+    A node warms its classifier at start (the forest's numba code): one whole feature row.
+
+    Warm-up classifies one cycle of zeros and returns the seconds that took, a finite float.
+    """
     calls = []
+    predict_s = 0.05
 
     class Recording:
         def predict(self, features):
             calls.append(np.array(features))
+            time.sleep(predict_s)
             return np.zeros(len(features))
 
-    assert warm_up(Recording()) >= 0.0
-    assert len(calls) == 1 and calls[0].shape == (1, N_FEATURES)
+    took_s = warm_up(Recording())
+    assert isinstance(took_s, float) and predict_s <= took_s < 5.0
+    assert len(calls) == 1 and calls[0].shape == (1, N_FEATURES) and not calls[0].any()
     _, forest = trained
-    assert warm_up(forest) >= 0.0
+    took_s = warm_up(forest)
+    assert isinstance(took_s, float) and math.isfinite(took_s) and took_s >= 0.0
     assert backend_name(forest) == 'forest'
     universe = np.array([[-1.0, 1.0]] * len(PATENT_FEATURE_NAMES))
     anfis = Anfis.from_params(grid_partition(universe, 2, 'triangle'),

@@ -63,13 +63,27 @@ def test_any_mounting_gives_the_same_heights_and_pitch(mounting):
 
 
 def test_an_explicit_mounting_equals_the_learnt_one():
+    """
+    Given or learnt, the mounting gives the same cycles: one per stride, the same features.
+
+    The heights (eq. 8-11) come from the navigation frame, which the mounting does not touch:
+    equal to rounding. The pitch and the motion features are read in the foot frame, whose
+    forward axis is learnt from the strides (each stride's own direction until it is learnt);
+    on this straight walk that is the given axis to well under 1 % of each feature's spread
+    over the walk (measured: 0.07 % at most, the skewness of acc_y; the pitch within 1e-7 rad).
+    """
     mounting = (10.0, -25.0, 40.0)
-    learnt = FootNavigator().run(*arrays(walk(mounting, imu='ideal')))[1]
-    given = FootNavigator(NavigatorParams(mounting_rpy_deg=mounting)).run(
-        *arrays(walk(mounting, imu='ideal')))[1]
-    # After the first strides the learnt forward axis matches the given one.
-    for a, b in zip(learnt[6:], given[6:]):
-        assert a.features[4] == pytest.approx(b.features[4], abs=np.radians(2.0))
+    w = walk(mounting, imu='ideal')
+    learnt = FootNavigator().run(*arrays(w))[1]
+    given = FootNavigator(NavigatorParams(mounting_rpy_deg=mounting)).run(*arrays(w))[1]
+    assert len(learnt) == len(given) == len(w.strides.stamp_ns)
+    assert all(c.valid for c in learnt + given)
+    assert [c.stamp_ns for c in learnt] == [c.stamp_ns for c in given]
+    a = np.array([c.features for c in learnt])
+    b = np.array([c.features for c in given])
+    assert np.allclose(a[:, :4], b[:, :4], rtol=0.0, atol=1e-9)                  # m
+    spread = a[:, 4:].max(axis=0) - a[:, 4:].min(axis=0)
+    assert np.all(np.abs(a[:, 4:] - b[:, 4:]) <= 0.01 * spread)
 
 
 def test_data_in_g_is_refused_with_a_clear_error():

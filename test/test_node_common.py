@@ -53,12 +53,39 @@ def test_cdr_decoding_equals_rclpy(frame_id):
     assert imu_sample_from_cdr(serialize_message(msg)) == imu_sample(msg)
 
 
-def test_cdr_decoding_other_encapsulation_falls_back():
-    """Big-endian CDR goes through rclpy's deserializer (or is refused if it cannot)."""
-    data = bytearray(serialize_message(make_imu('imu_link')))
-    data[1] = 0x00                                          # CDR_BE
+def imu_cdr_big_endian(msg):
+    """
+    Serialise a sensor_msgs/Imu as plain big-endian CDR, by hand.
+
+    Encapsulation 00 00 00 00 | int32 sec | uint32 nanosec | uint32 n | frame_id (n bytes, NUL
+    included) | pad to 8 | 37 float64: orientation (4), orientation_covariance (9),
+    angular_velocity (3), its covariance (9), linear_acceleration (3), its covariance (9).
+    """
+    header = msg.header
+    frame_id = header.frame_id.encode('utf-8') + b'\0'
+    body = struct.pack('>iII', header.stamp.sec, header.stamp.nanosec, len(frame_id)) + frame_id
+    body += bytes(-len(body) % 8)
+    q, w, a = msg.orientation, msg.angular_velocity, msg.linear_acceleration
+    doubles = ([q.x, q.y, q.z, q.w, *msg.orientation_covariance,
+                w.x, w.y, w.z, *msg.angular_velocity_covariance,
+                a.x, a.y, a.z, *msg.linear_acceleration_covariance])
+    return b'\x00\x00\x00\x00' + body + struct.pack('>37d', *doubles)
+
+
+@pytest.mark.parametrize('frame_id', ['', 'a', 'imu_link', 'x' * 17, 'fuß'])
+def test_cdr_decoding_other_encapsulation_falls_back(frame_id):
+    """Big-endian CDR goes through rclpy's deserializer: the same sample as the message."""
+    msg = make_imu(frame_id)
+    data = imu_cdr_big_endian(msg)
+    assert data[:2] == b'\x00\x00'                        # CDR_BE: not the in-place path
+    assert imu_sample_from_cdr(data) == imu_sample(msg)
+
+
+def test_cdr_decoding_other_encapsulation_truncated_is_refused():
+    """A big-endian fragment rclpy cannot deserialise is refused with an InputError."""
+    data = imu_cdr_big_endian(make_imu('imu_link'))
     with pytest.raises(InputError, match='not a sensor_msgs/Imu'):
-        imu_sample_from_cdr(bytes(data[:20]))
+        imu_sample_from_cdr(data[:20])
 
 
 def test_cdr_decoding_truncated_is_refused():

@@ -266,19 +266,29 @@ def test_max_period_below_min_period_is_refused():
         StrideGateParams(min_period_s=1.0, max_period_s=0.5)
 
 
-def test_navigator_with_the_gate_finds_every_simulated_stride_and_live_equals_batch():
+def test_the_gate_cuts_no_extra_cycle_on_clean_simulated_stances():
+    """
+    On a simulated walk whose every stance SHOE sees, the gate adds nothing: same cycles.
+
+    With the gate and without it the navigator finds one cycle per simulated stride, at the
+    same stamps and with the same features, and the gate counts no relaxed or late stance (it
+    neither cuts a stride in two at a mid-swing dip nor merges two).
+    """
     segments = (Segment.level(4), Segment.stairs(8, +1, steps_per_stride=2), Segment.level(2))
     w = simulate_walk(segments, rng=np.random.default_rng(11), rate_hz=200.0, imu='tactical',
                       step_height_m=0.17)
-    params = NavigatorParams(stride_gate=StrideGateParams(enabled=True))
-    track, cycles = FootNavigator(params).run(w.stamp_ns, w.acc_b, w.gyr_b)
-    assert len([c for c in cycles if c.valid]) == len(w.strides.stamp_ns)
-    assert track[-1].pos_n[2] == pytest.approx(8 * 0.17, rel=0.03)
-    live = FootNavigator(params)
-    outputs = [o for t, a, g in zip(w.stamp_ns, w.acc_b, w.gyr_b) for o in live.step(int(t), a, g)]
-    live_cycles = [o[1] for o in outputs if o[1] is not None]
-    assert [c.stamp_ns for c in live_cycles] == [c.stamp_ns for c in cycles]
-    assert all(np.array_equal(a.pos_n, b.pos_n) for a, b in zip(cycles, live_cycles))
+    runs = {}
+    for enabled in (True, False):
+        navigator = FootNavigator(NavigatorParams(stride_gate=StrideGateParams(enabled=enabled)))
+        _, cycles = navigator.run(w.stamp_ns, w.acc_b, w.gyr_b)
+        runs[enabled] = cycles, navigator.status
+    (gated, status), (shoe_only, status_without) = runs[True], runs[False]
+    assert len(gated) == len(shoe_only) == len(w.strides.stamp_ns)
+    assert all(c.valid for c in gated)
+    assert [c.stamp_ns for c in gated] == [c.stamp_ns for c in shoe_only]
+    assert all(np.array_equal(a.features, b.features) for a, b in zip(gated, shoe_only))
+    assert (status.relaxed_stances, status.late_stances, status.late_cycles) == (0, 0, 0)
+    assert status.stance_samples == status_without.stance_samples
 
 
 def gdin_cycles(walk, gate):
