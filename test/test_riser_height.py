@@ -14,14 +14,12 @@
 
 """Online riser height: synthetic flights with unknown risers per stride, a wrong prior, noise."""
 
-from functools import partial
-
 from anfis_elevation_ros.core.riser_height import allowed_riser_counts, grid_peak_m
 from anfis_elevation_ros.core.riser_height import height_checked_mode
 from anfis_elevation_ros.core.riser_height import K_GRID_M, log_prior
 from anfis_elevation_ros.core.riser_height import riser_count_bounds, RiserHeightEstimator
 from anfis_elevation_ros.core.riser_height import stride_log_likelihood, stride_riser_counts
-from anfis_elevation_ros.core.stair_steps import flight_riser_count
+from anfis_elevation_ros.core.stair_steps import flight_riser_count, FlightStrides
 from anfis_elevation_ros.core.stairwells import StairwellRiserHeights
 import numpy as np
 import pytest
@@ -30,8 +28,14 @@ TREAD_M = 0.28
 
 
 def counted(risers):
-    """Return the count of a flight counted once: the same risers at any K."""
-    return lambda k_m: risers
+    """
+    Return a flight counted once: the same risers at any K.
+
+    One stride whose height says nothing (0 m, no whole count) and whose length allows exactly
+    abs(risers) risers, of the flight's sign.
+    """
+    n = abs(risers)
+    return FlightStrides.of_flight(1 if risers >= 0 else -1, [0.0], [1], [(n, n)])
 
 
 def flight(k_m, counts, rng, noise_m=0.004, direction=1):
@@ -307,9 +311,8 @@ def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
     for i, dh in enumerate(up):
         wells.add(dh, 1.12, (1.12 * (i + 1), 0.0))
     assert wells.estimate_m == pytest.approx(0.203, abs=0.002)
-    bounds = [riser_count_bounds(1.12)] * 3
-    low, high = zip(*bounds)
-    wells.end_flight(partial(flight_riser_count, 1, up, [1, 1, 1], low=low, high=high), 1.82)
+    wells.end_flight(FlightStrides.of_flight(1, up, [1, 1, 1], [riser_count_bounds(1.12)] * 3),
+                     1.82)
     assert wells.climbed_m == pytest.approx(9 * 0.203, abs=0.02)
     # Back down the same stairs one riser a stride: K moves to 0.152 m, and the flight up is
     # 12 risers of it, so the walk ends where it started.
@@ -318,7 +321,25 @@ def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
     for i, dh in enumerate(down):
         wells.add(-dh, 0.28, (3.4 - 0.28 * (i + 1), 0.3))
     assert wells.estimate_m == pytest.approx(0.152, abs=0.001)
-    low, high = zip(*[riser_count_bounds(0.28)] * 12)
-    wells.end_flight(partial(flight_riser_count, -1, down, [1] * 12, low=low, high=high), 0.0)
+    wells.end_flight(FlightStrides.of_flight(-1, down, [1] * 12,
+                                             [riser_count_bounds(0.28)] * 12), 0.0)
     assert wells.stairwells == 1
     assert wells.climbed_m == pytest.approx(0.0, abs=1e-9)
+
+
+def test_the_strides_of_many_flights_count_as_each_flight_would():
+    """The strides of flights up and down, bridged cycles, bounds: counted as each flight."""
+    rng = np.random.default_rng(3)
+    flights, total = [], FlightStrides.none()
+    for mode in (1, -1, 1, 1, -1):
+        n = int(rng.integers(3, 12))
+        dh = rng.uniform(0.12, 0.70, n)
+        cycles = rng.integers(1, 3, n)
+        bounds = [riser_count_bounds(float(length)) for length in rng.uniform(0.2, 1.5, n)]
+        flights.append((mode, dh, cycles, bounds))
+        total = total + FlightStrides.of_flight(mode, dh, cycles, bounds)
+    assert FlightStrides.none().risers(0.17) == 0
+    for k_m in np.linspace(0.13, 0.21, 17):
+        each = sum(flight_riser_count(mode, dh, cycles, k_m, *zip(*bounds))
+                   for mode, dh, cycles, bounds in flights)
+        assert total.risers(k_m) == each

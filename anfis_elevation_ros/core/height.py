@@ -59,7 +59,6 @@ References
 """
 
 from dataclasses import dataclass
-from functools import partial
 import math
 import numbers
 from typing import Optional
@@ -73,7 +72,8 @@ from .gait import FEATURE_NAMES
 from .level_strides import LevelSlope
 from .riser_height import height_checked_mode, known_riser_height_m, MAX_RISERS
 from .riser_height import PRIOR_SIGMA_M, riser_count_bounds
-from .stair_steps import bridged_step_count, flight_riser_count, MODE_DOWN, MODE_LEVEL, MODE_UP
+from .stair_steps import bridged_step_count, flight_riser_count, FlightStrides, MODE_DOWN
+from .stair_steps import MODE_LEVEL, MODE_UP
 from .stair_steps import quantised_height_step, quantised_step_count, stair_mode
 from .stairwells import StairwellRiserHeights
 from .validation import check_finite, check_range
@@ -342,13 +342,12 @@ class ElevationTracker:
             self._flight_risers()
 
     def _flight_risers(self) -> int:
-        return self._flight_counter()(self.step_height_m) if self._flight_abs_dh_m else 0
+        return self._flight_strides().risers(self.step_height_m) if self._flight_abs_dh_m else 0
 
-    def _flight_counter(self):
-        """Return the open flight's riser count as a function of K (:func:`flight_riser_count`)."""
-        low, high = zip(*self._flight_bounds) if self._flight_bounds else (None, None)
-        return partial(flight_riser_count, self._flight_mode, tuple(self._flight_abs_dh_m),
-                       tuple(self._flight_cycles), low=low, high=high)
+    def _flight_strides(self) -> FlightStrides:
+        """Return the open flight's strides, to count its risers at any K."""
+        return FlightStrides.of_flight(self._flight_mode, self._flight_abs_dh_m,
+                                       self._flight_cycles, self._flight_bounds)
 
     @property
     def step_height_m(self) -> float:
@@ -525,7 +524,7 @@ class ElevationTracker:
 
     def _end_flight(self, mode: int):
         """Hand the current flight's strides to its stairwell; start a flight of ``mode``."""
-        self.risers.end_flight(self._flight_counter(), self.height_m)
+        self.risers.end_flight(self._flight_strides(), self.height_m)
         self._flight_abs_dh_m, self._flight_cycles, self._flight_bounds = [], [], []
         self._flight_mode = mode
 

@@ -27,13 +27,14 @@ Public API: :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
 
 from dataclasses import dataclass, field
 import math
-from typing import Callable, Optional
+from typing import Optional
 
 import numpy as np
 
 from .level_strides import STRIDE_SIGMA_M
 from .riser_height import K_GRID_M, log_sum_exp, PRIOR_SIGMA_M, RiserHeightEstimator
 from .riser_height import stride_log_likelihood, stride_riser_counts
+from .stair_steps import FlightStrides
 
 SAME_STAIRS_M = 3.0
 """A flight starting this close (m) to where a stairwell's last flight ended is in it."""
@@ -53,7 +54,7 @@ class Stairwell:
     Attributes
     ----------
     estimator : the riser height of its flights' strides.
-    flights : each finished flight's signed riser count at a riser height K, ``risers(K)``.
+    flights : its finished flights' strides, to count their risers at any K.
     end_xy : (x, y) where its last flight ended, m, or None.
     direction : that flight's direction (+1 up, -1 down; 0 none yet).
     end_height_m : the height it ended at, m, or None.
@@ -61,7 +62,7 @@ class Stairwell:
     """
 
     estimator: RiserHeightEstimator
-    flights: list = field(default_factory=list)
+    flights: FlightStrides = field(default_factory=FlightStrides.none)
     end_xy: Optional[tuple] = None
     direction: int = 0
     end_height_m: Optional[float] = None
@@ -151,12 +152,12 @@ class StairwellRiserHeights:
             self._index = 0 if self._wells else None
         return self.estimate_m
 
-    def end_flight(self, risers: Callable[[float], int], end_height_m: Optional[float] = None):
+    def end_flight(self, flight: FlightStrides, end_height_m: Optional[float] = None):
         """
         Close the open flight (ending at a height, m): its strides and risers join its well.
 
-        ``risers(K)`` is the flight's signed riser count at riser height K: when a later
-        flight moves its stairwell's K, the flight is counted again with it.
+        ``flight`` holds its strides as eq. 14 counts them: when a later flight moves its
+        stairwell's K, the flight is counted again with it.
         """
         if self._flight_log_likelihood is None or not self._flight_strides:
             self._flight_log_likelihood = None
@@ -166,7 +167,7 @@ class StairwellRiserHeights:
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well.estimator.commit(self._flight_log_likelihood, self._flight_strides)
-        well.flights.append(risers)
+        well.flights = well.flights + flight
         self._risers_at.clear()
         well.end_xy = self._flight_end_xy
         well.direction = self._flight_direction
@@ -206,14 +207,14 @@ class StairwellRiserHeights:
             more = self._open_flight() if k == self._index else None
             k_m = well.estimator.estimate_with(more)
             if (k, k_m) not in self._risers_at:
-                self._risers_at[k, k_m] = sum(risers(k_m) for risers in well.flights)
+                self._risers_at[k, k_m] = well.flights.risers(k_m)
             total += k_m * self._risers_at[k, k_m]
         return total
 
     def forget_climbs(self):
         """Forget the finished flights (their height is in the caller's base: a new K, a floor)."""
         for well in self._wells:
-            well.flights = []
+            well.flights = FlightStrides.none()
         self._risers_at.clear()
 
     def resume(self, estimate_m: float, strides: int):
