@@ -165,10 +165,16 @@ class NodesProcess(BackgroundProcess):
         super().__init__(cli('run', '--params', params, *extra), log_path)
 
 
-def play_at_recorded_pace(bag, publish_log) -> np.ndarray:
-    """Play a bag with ``play`` at its recorded pace; return the (stamp_ns, publish_ns) log."""
+def play_at_recorded_pace(bag, publish_log, ready_s=None) -> np.ndarray:
+    """
+    Play a bag with ``play`` at its recorded pace; return the (stamp_ns, publish_ns) log.
+
+    ``ready_s`` is ``play``'s ``--ready-s`` (None: its default, wait for the IMU node's first
+    diagnostics; 0: play once any subscriber appears, for a subscriber that is no IMU node).
+    """
+    options = () if ready_s is None else ('--ready-s', ready_s)
     play = subprocess.run(cli('play', bag, '--rate', 1, '--log-publish', publish_log,
-                              '--linger-s', 1.0, '--wait-s', 30),
+                              '--linger-s', 1.0, '--wait-s', 30, *options),
                           env=cli_env(), cwd=PACKAGE_ROOT, capture_output=True, text=True)
     if play.returncode != 0:
         raise RuntimeError(f'play failed:\n{play.stderr}')

@@ -330,7 +330,7 @@ def test_a_flight_is_counted_again_when_a_later_flight_moves_its_k():
 def test_the_strides_of_many_flights_count_as_each_flight_would():
     """The strides of flights up and down, bridged cycles, bounds: counted as each flight."""
     rng = np.random.default_rng(3)
-    flights, total = [], FlightStrides.none()
+    flights, total = [], FlightStrides.empty()
     for mode in (1, -1, 1, 1, -1):
         n = int(rng.integers(3, 12))
         dh = rng.uniform(0.12, 0.70, n)
@@ -338,7 +338,7 @@ def test_the_strides_of_many_flights_count_as_each_flight_would():
         bounds = [riser_count_bounds(float(length)) for length in rng.uniform(0.2, 1.5, n)]
         flights.append((mode, dh, cycles, bounds))
         total = total + FlightStrides.of_flight(mode, dh, cycles, bounds)
-    assert FlightStrides.none().risers(0.17) == 0
+    assert FlightStrides.empty().risers(0.17) == 0
     for k_m in np.linspace(0.13, 0.21, 17):
         each = sum(flight_riser_count(mode, dh, cycles, k_m, *zip(*bounds))
                    for mode, dh, cycles, bounds in flights)

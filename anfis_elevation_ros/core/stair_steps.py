@@ -26,9 +26,8 @@ any number of flights at once; :func:`bridged_step_count` credits lost cycles in
 Rounding: :func:`round_half_away` (``core/floors.py``), halves away from zero.
 
 Public API: :func:`stair_mode`, :func:`quantised_step_count`, :func:`quantised_height_step`,
-:func:`flight_riser_count`, :class:`FlightStrides`, :func:`bridged_step_count`, :data:`MODE_UP`,
-:data:`MODE_LEVEL`,
-:data:`MODE_DOWN`, :data:`SURE_HEIGHT_RISERS`.
+:func:`flight_riser_count`, :class:`FlightStrides`, :func:`bridged_step_count`,
+:data:`MODE_UP`, :data:`MODE_LEVEL`, :data:`MODE_DOWN`, :data:`SURE_HEIGHT_RISERS`.
 
 References
 ----------
@@ -205,9 +204,9 @@ class FlightStrides:
 
     risers(K) = sum_f C_f sum_i w_i n_i(K) = :func:`flight_riser_count` with mode 1 on all the
     strides at once, each stride's cycles w_i signed by its flight's mode C_f. One call over
-    arrays, however many flights: a stairwell walked all shift long is counted again in
-    microseconds whenever its K moves (a list of per-flight counts cost 1 ms a cycle after
-    four hours of an 8-hour soak, and grew with every flight).
+    arrays, however many flights: a stairwell walked all shift long is counted again quickly
+    whenever its K moves (counted flight by flight, it cost about 1 ms a cycle by the sixth
+    hour of the 8-hour soak, growing with every flight).
 
     Attributes
     ----------
@@ -231,7 +230,7 @@ class FlightStrides:
                    np.asarray(high, dtype=np.int64))
 
     @classmethod
-    def none(cls) -> 'FlightStrides':
+    def empty(cls) -> 'FlightStrides':
         """Return no strides (no flight counted)."""
         return cls.of_flight(MODE_UP, [], [], [])
 

@@ -62,7 +62,7 @@ class Stairwell:
     """
 
     estimator: RiserHeightEstimator
-    flights: FlightStrides = field(default_factory=FlightStrides.none)
+    flights: FlightStrides = field(default_factory=FlightStrides.empty)
     end_xy: Optional[tuple] = None
     direction: int = 0
     end_height_m: Optional[float] = None
@@ -214,7 +214,7 @@ class StairwellRiserHeights:
     def forget_climbs(self):
         """Forget the finished flights (their height is in the caller's base: a new K, a floor)."""
         for well in self._wells:
-            well.flights = FlightStrides.none()
+            well.flights = FlightStrides.empty()
         self._risers_at.clear()
 
     def resume(self, estimate_m: float, strides: int):

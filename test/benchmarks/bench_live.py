@@ -136,7 +136,7 @@ def baseline_cpu_pct(bag: Path, work: Path, batch_period_s: float) -> float:
                            work / 'baseline.log') as baseline:
         sampler = CpuSampler(baseline.proc.pid)
         sampler.start()
-        published = play_at_recorded_pace(bag, work / 'published_baseline.csv')
+        published = play_at_recorded_pace(bag, work / 'published_baseline.csv', ready_s=0)
         sampler.stop()
     return sampler.percent_between(int(published[0, 1]), int(published[-1, 1]))
 
