@@ -41,8 +41,8 @@ def test_batch_run_equals_a_loop_of_step_to_the_bit():
 
 
 def test_climb_is_measured_within_three_percent():
-    # A tactical-grade IMU; an uncalibrated consumer part (30 mg bias) misses by 10-15 % on
-    # so short a walk (see README, accuracy).
+    # A tactical-grade IMU: the consumer preset's raw flight heights err by up to 4.9-6.3 %
+    # (README, "Accuracy", bench_flights.py).
     w = walk(imu='tactical')
     track, cycles = FootNavigator().run(w.stamp_ns, w.acc_b, w.gyr_b)
     valid = [c for c in cycles if c.valid]

@@ -15,7 +15,7 @@
 """
 The navigator on real foot-IMU recordings from ../shared/data (missing data fails).
 
-Tolerances are the figures measured with the default parameters (README, accuracy) plus a
+Tolerances are the figures measured with the default parameters (README, "Accuracy") plus a
 small margin, so that a regression fails. They are not the project's targets where those are
 not met yet (MaD feet within 5 %).
 """

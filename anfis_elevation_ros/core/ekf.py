@@ -76,7 +76,7 @@ class EkfParams:
     -----
     A boot sees impacts and vibration that no datasheet lists, so the densities are set well
     above a MEMS datasheet's (as OpenShoe and pyshoe do); their ratio to zupt_sigma_mps is
-    what matters. Defaults were chosen on the pyshoe VICON trials (see README, accuracy).
+    what matters. Defaults were chosen on the pyshoe VICON trials (see README, "Accuracy").
 
     """
 

@@ -331,9 +331,10 @@ class GaitSegmenter:
         a slope |dh| / run of at most ``max_slope`` and the cycle before also kept to it (level
         ground, a ramp): the samples after it begin the next swing. Elsewhere (on stairs and
         where they end) the cycle runs on to the next stance: the stair classifier calls
-        HuGaDB's stair strides cut at late stances level (README, "Late stances"). Returns the
-        GaitCycle or None (not cut; outside a swing; a swing that has outgrown the samples
-        held, whose cycle will be invalid; or a cut part too short to be a stride).
+        HuGaDB's stair strides cut at late stances level (doc/hallway_notebook.md,
+        "Late stances"). Returns the GaitCycle or None (not cut; outside a swing; a swing that
+        has outgrown the samples held, whose cycle will be invalid; or a cut part too short to
+        be a stride).
         """
         end = len(self._stamps_ns) - 1 - int(age)
         if not self._in_swing or end < 0 or len(self._stamps_ns) >= self._max_samples:

@@ -72,7 +72,8 @@ class GyroRailParams:
     gdin walk 43 ends worse (both aids 1.0 -> 1.5 %; with the stride gate its mean stride
     error 0.83 -> 0.96 m) and 38 a little (1.0 -> 1.1 %). On by default since 2026-12-05:
     without it a gyro that clips in the wearer's gait leaves the worst walk 15 % of its path
-    off, worse with the heading aids than without (``README.md``, gdin_hallway).
+    off, worse with the heading aids than without (doc/hallway_notebook.md,
+    "Rebuilding the clipped samples").
 
     """
 

@@ -57,14 +57,15 @@ Level strides behind the slope correction (:class:`LevelSlope`): the latest only
 slope moves during a walk as the filter's tilt and accelerometer bias estimates move (random
 walk 67, consumer IMU: -0.03 m/m for 14 strides, about 0 after a turn on the spot; with the
 last 64, K came out 0.132 m for 0.1405 m). Chosen from 8, 16 and 64 on random walks 14-20 and
-51-80 (README).
+51-80 (doc/riser_height_notebook.md, "The slope over the last 8 level strides").
 """
 
 MIN_SLOPE_STRIDES = 4
 """
 Fewer level strides than this give no slope (0): the median of two or three is one stride's
 word, and the MaD left foot's two level strides before its stairs (one of them already
-climbing 0.2 m) said 0.105 m/m, which took its K to the grid's floor (README).
+climbing 0.2 m) said 0.105 m/m, which took its K to the grid's floor
+(doc/riser_height_notebook.md, "no slope from fewer than 4 level strides").
 """
 
 SLOPE_MIN_LENGTH_M = 0.5
@@ -139,7 +140,8 @@ def stride_noise_sigma(residuals) -> float:
     better than sigma_0 assumes (a simulated tactical IMU scatters by 2 mm: then stairs whose
     risers are 5 mm apart are told apart), not that it is worse: a wider sigma let flights
     of different riser heights share one K in the simulator, and the real feet that scatter
-    by 20-70 mm have no height truth to say what a wider sigma would do (README).
+    by 9-68 mm have no height truth to say what a wider sigma would do
+    (doc/riser_height_notebook.md, "the stride noise from the level strides").
     """
     if len(residuals) < MIN_NOISE_STRIDES:
         return STRIDE_SIGMA_M

@@ -178,7 +178,8 @@ def height_checked_mode(mode: int, dh_m: float, length_m: Optional[float],
     height error its misalignment had built up: 0.46 m on one level stride), and a stair stride
     called level inside a flight is the first stride of the flight that goes on, which
     :meth:`ElevationTracker._missed_first_stride` recovers. Both lines trust the INS stride: an
-    accelerometer that clips in every swing (HuGaDB's +-2 g) breaks them (README).
+    accelerometer that clips in every swing (HuGaDB's +-2 g) breaks them
+    (README, "The stride's geometry checks the classifier").
     """
     if length_m is None:
         return mode
@@ -368,7 +369,7 @@ def grid_peak_m(grid_m: np.ndarray, log_posterior: np.ndarray) -> float:
 
     (the bound holds because l_0 is the largest of the three; K_i itself at the grid's ends, or
     where the three are equal). The grid's 1 mm would otherwise round K by up to 0.5 mm, 2 cm
-    over a 40-riser climb (README).
+    over a 40-riser climb (doc/riser_height_notebook.md, "K between the grid's points").
     """
     i = int(np.argmax(log_posterior))
     if not 0 < i < len(grid_m) - 1:

@@ -53,7 +53,7 @@ through zero for a few samples) for a stance. The gate uses what every stride ha
   the cycle's samples since then (``GaitSegmenter.late_stance``). It closes the gait cycle
   only on level ground (a slope of at most ``late_max_slope`` from the cycle's stance, and
   in the cycle before): cut on stairs, HuGaDB's stair cycles were brisk stair strides the
-  classifier calls level (README, "Late stances").
+  classifier calls level (doc/hallway_notebook.md, "Late stances").
 
 ``stride_gate_update`` is the per-sample step (compiled, called by the navigator's kernel);
 ``samples_to_relaxed_stance`` tells the live node when a relaxed stance may be due.
@@ -107,7 +107,7 @@ class StrideGateParams:
     relaxed_sigma_mps : standard deviation of the ZUPT at a relaxed stance, m/s (the foot
         there is not quite still; 0.1 until 2026-12-06, which left the velocity error of
         HuGaDB's clipped swings in the next stride: its new-wearer accuracy 0.930 with the
-        gate, 0.949 at 0.02, README).
+        gate, 0.949 at 0.02; doc/classifier_notebook.md, "Fixed the same day").
     late_stances : find the stances between two swings after the fact (their ZUPT late).
     late_balance : a late stance needs no stance to follow it within this fraction of the time
         from the last stance to it.

@@ -212,7 +212,7 @@ def adaptive_threshold(peak_gyr_rps: float, threshold: float, ref_peak_gyr_rps: 
     past 20 rad/s (x-io, 256 Hz) from declaring whole swings stance; gamma_min = 3e6 keeps the
     first strides after a stand from losing their stances. The block length and count (0.4 s,
     5) and the bounds were chosen on the same 36 trials, checked on the MaD and x-io stairs
-    (README, accuracy).
+    (README, "Accuracy").
     """
     gamma = threshold * (peak_gyr_rps / ref_peak_gyr_rps) ** intensity_exponent
     return min(max(gamma, min_threshold), max_threshold)

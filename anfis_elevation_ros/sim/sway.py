@@ -16,11 +16,12 @@
 Sway of a foot on the ground: the small rotation of a loaded or standing foot about the IMU.
 
 A real foot is never still on the ground: a standing foot sways at 1-2 deg/s (the pyshoe VICON
-stands, measured for the gyro bias, README) and a walking stance rolls from heel to toe. Without
-it the simulated gyro reads its bias alone through every stance, and a zero angular rate update
-(ZARU) learns the bias at every stride, as it never can on a real walk. Each stance (the stand
-before the first stride, then the stance after each swing) gets, per Euler angle, a sway of a
-whole number m of half periods over its duration T (tau from the stance start):
+stands, measured for the gyro bias; doc/hallway_notebook.md,
+"Why the VICON trials learned z-gyro biases") and a walking stance rolls from heel to toe.
+Without it the simulated gyro reads its bias alone through every stance, and a zero angular rate
+update (ZARU) learns the bias at every stride, as it never can on a real walk. Each stance (the
+stand before the first stride, then the stance after each swing) gets, per Euler angle, a sway
+of a whole number m of half periods over its duration T (tau from the stance start):
 
     delta(tau) = (R / omega) sin(omega tau),   omega = m pi / T,   m = max(1, round(2 f T)),
     delta'(tau) = R cos(omega tau),

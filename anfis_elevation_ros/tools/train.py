@@ -80,7 +80,8 @@ MAX_FEATURES_CANDIDATES = (0.125, 0.25, 0.5)
 """The forest's shares of the features tried at a split that ``train`` chooses among (2, 4 and 8
 of the 16), by cross-validation; a single ``--max-features`` value is used as given. Not one
 feature a split (1/16): within 0.001 of 1/8 on HuGaDB's new wearers, but its trees called clear
-stair strides of sensors it never saw level (x-io's real stairs, dh +0.20 and +0.43 m; README)."""
+stair strides of sensors it never saw level (x-io's real stairs, dh +0.20 and +0.43 m;
+doc/classifier_notebook.md, "One feature a split is no longer a candidate")."""
 
 
 def parse_int_list(text: str) -> list:

@@ -19,7 +19,8 @@ Seed 001's scene classifier: ``sklearn.ensemble.RandomForestClassifier`` -- boot
 of the training cycles, each split on the best of a random subset of the features -- on every
 gait-cycle feature (:data:`FOREST_FEATURE_NAMES`: the seed's eleven motion features and height
 change, and the patent's other four, eq. 8, 9, 11, 12), labels down / level / up (-1 / 0 / +1).
-With the patent's four, leave-one-subject-out on HuGaDB 1-9 went from 0.925 to 0.939 (README).
+With the patent's four, leave-one-subject-out on HuGaDB 1-9 went from 0.925 to 0.939
+(doc/classifier_notebook.md, "features: seed 001's twelve").
 The fitted forest is converted to arrays (:class:`~..core.forest.Forest`) and
 stored as JSON; inference needs no scikit-learn. scikit-learn is only needed here: install the
 ``train`` extra (``pip install .[train]``).
@@ -45,7 +46,7 @@ class ForestOptions:
 
     ``max_features``: features tried at each split, as a share of the sixteen; ``train``
     chooses it by cross-validation among ``train.MAX_FEATURES_CANDIDATES``: 1/8 (two features)
-    on the data of the default model (README).
+    on the data of the default model (README, "Stair classifier for a new wearer").
     ``class_weight``: 'balanced' weights each mode by the inverse of its share of the cycles;
     'none' leaves the (level-heavy) mix as it is. ``seed``: of the bootstrap and the subsets.
     """
