@@ -191,6 +191,20 @@ def test_floor_unknown_after_floor_unknown_s():
     assert alarms_of(incident)['floor_unknown']['cause_active'] is False
 
 
+def test_a_floor_range_is_no_floor_unknown_alarm_until_it_is_lost():
+    # No building file: settled at 12 m, floor 3 or 4. The tracker is not lost; the storeys
+    # are unknown, and the page shows the range.
+    incident, clock = make_incident()
+    incident.update_floor(FF1, 4)
+    incident.update_floor_certain(FF1, False)
+    incident.update_floor_range(FF1, [3, 4])
+    assert stand_still_until(incident, clock, 60.0, watch='floor_unknown') == {}
+    incident.update_floor_range(FF1, [])            # the height in doubt (an outage)
+    clock.t = 61.0
+    incident.tick()
+    assert alarms_of(incident)['floor_unknown']['severity'] == 'alarm'
+
+
 def test_floor_unknown_counts_from_the_last_stair_cycle():
     # A climb of several storeys keeps the floor uncertain for minutes: not an alarm.
     incident, clock = make_incident()

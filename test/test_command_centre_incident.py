@@ -104,6 +104,10 @@ def test_roster_sorted_by_alarm_priority():
     lambda i: i.update_floor('/ff2', True),
     lambda i: i.update_floor_certain('/ff2', 1),
     lambda i: i.update_mode('/ff2', 2),
+    lambda i: i.update_floor_range('/ff2', [3]),
+    lambda i: i.update_floor_range('/ff2', [4, 3]),
+    lambda i: i.update_floor_range('/ff2', [3, 4.0]),
+    lambda i: i.update_floor_range('/ff2', 3),
     lambda i: i.update_diagnostics('/ff2', 7, 'n', 'm'),
     lambda i: i.update_diagnostics('/ff2', 0, None, 'm'),
     lambda i: i.update_pose('ff2', 1, 0.0, 0.0, 0.0, 0.0, 0.5),
@@ -207,6 +211,10 @@ def test_evacuation_and_roll_call_are_logged():
     texts = [e['text'] for e in state['log']]
     assert 'Evacuation ordered by IC Smith; 1 responders inside' in texts
     assert 'Floor ?, last contact 4 s ago, no alarm' in texts
+    incident.update_floor_range('/ff1', [1, 2])     # settled where two floors fit
+    incident.roll_call('IC Smith')
+    assert 'Floor 1-2?, last contact 0 s ago, no alarm' in [
+        e['text'] for e in incident.snapshot()['log']]
 
 
 def test_wait_for_change_wakes_on_an_update():

@@ -122,7 +122,7 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     from geometry_msgs.msg import PointStamped
     from nav_msgs.msg import Odometry
     from rclpy.serialization import serialize_message
-    from std_msgs.msg import Bool, Int32, Int8
+    from std_msgs.msg import Bool, Int32, Int32MultiArray, Int8
 
     from anfis_elevation_ros.nodes.qos import DIAGNOSTICS_QOS, LATEST_QOS
 
@@ -132,6 +132,7 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
         pubs[ns] = {name: node.create_publisher(msg_type, f'{ns}/{name}', LATEST_QOS)
                     for msg_type, name in ((PointStamped, 'elevation'), (Int32, 'floor'),
                                            (Bool, 'floor_certain'), (Int8, 'stair_mode'),
+                                           (Int32MultiArray, 'floor_range'),
                                            (Odometry, 'foot_odom_throttle'))}
     diagnostics = node.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
     point = PointStamped()
@@ -141,6 +142,7 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     pubs['/ff7']['elevation'].publish(point)
     pubs['/ff7']['floor'].publish(Int32(data=1))
     pubs['/ff7']['floor_certain'].publish(Bool(data=True))
+    pubs['/ff7']['floor_range'].publish(Int32MultiArray(data=[1, 1]))
     pubs['/ff7']['stair_mode'].publish(Int8(data=1))
     odom = Odometry()
     odom.header.stamp.sec = 6
@@ -158,9 +160,11 @@ def test_node_finds_responders_and_feeds_the_incident(centre_and_responder):
     # Each topic's latest message arrives on its own: wait for every feed.
     def ff7_state():
         r = responder('/ff7') or {}
-        return tuple(r.get(k) for k in ('x_m', 'floor', 'floor_certain', 'mode', 'z_m'))
+        return tuple(r.get(k) for k in ('x_m', 'floor', 'floor_certain', 'mode', 'z_m',
+                                        'floor_range'))
 
-    assert wait_for(lambda: ff7_state() == (1.5, 1, True, 1, 3.06), 10.0), responder('/ff7')
+    assert wait_for(lambda: ff7_state() == (1.5, 1, True, 1, 3.06, [1, 1]), 10.0), \
+        responder('/ff7')
     ff7 = responder('/ff7')
     assert (ff7['floor'], ff7['floor_certain'], ff7['mode'], ff7['z_m']) == (1, True, 1, 3.06)
     assert ff7['sigma_xy_m'] == pytest.approx(0.4)          # sqrt(0.08 + 0.08)

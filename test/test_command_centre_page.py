@@ -219,12 +219,18 @@ def test_page_without_a_building_draws_a_grid_and_the_floors_seen(browser):
     incident.update_pose('/ff1', time.time_ns(), 40.0, -12.0, 6.0, 90.0, None)
     incident.update_floor('/ff1', 2)
     incident.update_pose('/b/ff2', time.time_ns(), 0.0, 0.0, 0.0, 0.0, 1.0)
+    # Settled 12 m up, storeys unknown: floor 3 or 4 (the classifier's floor_range).
+    incident.update_pose('/ff3', time.time_ns(), 10.0, 5.0, 12.0, 0.0, 1.0)
+    incident.update_floor('/ff3', 4)
+    incident.update_floor_certain('/ff3', False)
+    incident.update_floor_range('/ff3', [3, 4])
     with running_server(incident) as server:
         browser.get(server.url)
-        wait_until(browser, lambda d: len(roster(d)) == 2, 'two responders')
+        wait_until(browser, lambda d: len(roster(d)) == 3, 'three responders')
         floors = {r['id']: r['floor'] for r in roster(browser)}
-        assert floors == {'/ff1': 'Floor 2', '/b/ff2': 'Floor ?'}
-        assert [(b['floor'], b['count']) for b in floor_buttons(browser)] == [(2, 1)]
+        assert floors == {'/ff1': 'Floor 2', '/b/ff2': 'Floor ?',
+                          '/ff3': 'Floor 3\u20134? (last Floor 4)'}
+        assert [(b['floor'], b['count']) for b in floor_buttons(browser)] == [(4, 1), (2, 1)]
         assert browser.find_element('css selector', '#floors .floorless').text == 'No floor: 1'
         assert len(browser.find_elements('css selector', '#map path')) >= 3   # grid + markers
 
@@ -235,7 +241,7 @@ def test_page_without_a_building_draws_a_grid_and_the_floors_seen(browser):
         browser.find_element('id', 'token-input').send_keys(TOKEN)
         browser.find_element('id', 'name-input').send_keys('IC Page')
         click(browser, '#token-ok')
-        wait_until(browser, lambda d: 'Roll call by IC Page: 2 responders' in
+        wait_until(browser, lambda d: 'Roll call by IC Page: 3 responders' in
                    d.find_element('id', 'log').text, 'the roll call in the log')
         click(browser, '#evacuate')
         alert = wait_until(browser, open_alert, 'the confirmation')

@@ -18,6 +18,7 @@ from anfis_elevation_ros import Anfis
 from anfis_elevation_ros.core.anfis import grid_partition
 from anfis_elevation_ros.core.building import building_from_dict
 from anfis_elevation_ros.core.errors import InputError
+from anfis_elevation_ros.core.floors import floor_map_for
 from anfis_elevation_ros.core.height import (
     bridged_step_count, CycleEstimate, ElevationParams, ElevationTracker, FEATURE_NAMES,
     floor_index, HEIGHT_CHANGE, quantised_height_step, quantised_step_count, round_half_away,
@@ -27,6 +28,8 @@ import pytest
 
 
 FIXED_K = {'step_height_sigma_m': 0.0}
+KNOWN_3M_STOREYS = {'floor_height_m': 3.0, 'floor_height_min_m': 3.0, 'floor_height_max_m': 3.0,
+                    'lobby_height_max_m': 0.0}
 """Riser height taken as known (no online estimate): eq. 14 as the patent has it."""
 
 
@@ -138,7 +141,9 @@ def test_floor_index_at_boundaries():
     ('step_height_m', 0.09), ('step_height_m', 0.26), ('step_height_m', float('nan')),
     ('mode_threshold', -1.1), ('mode_threshold', 1.1), ('floor_height_m', 1.9),
     ('floor_height_m', float('inf')), ('start_floor', 1.0), ('start_floor', True),
-    ('start_height_m', float('nan')), ('step_height_m', '0.17')])
+    ('start_height_m', float('nan')), ('step_height_m', '0.17'),
+    ('floor_height_min_m', 1.9), ('floor_height_max_m', 2.7),    # below the lowest storey
+    ('floor_height_max_m', float('nan')), ('lobby_height_max_m', -0.1)])
 def test_elevation_params_reject_out_of_range(field, value):
     with pytest.raises(ValueError, match=field):
         ElevationParams(**{field: value})
@@ -191,7 +196,8 @@ def test_tracker_follows_a_scripted_sequence():
 
 
 def test_tracker_counts_whole_steps_and_changes_floor_when_settled():
-    params = ElevationParams(step_height_m=0.15, floor_height_m=3.0, start_floor=2, **FIXED_K)
+    params = ElevationParams(step_height_m=0.15, start_floor=2, **FIXED_K,
+                             **KNOWN_3M_STOREYS)
     tracker = ElevationTracker(ScriptedModel([1.0] * 20 + [0.0] * 2), params)
     assert (tracker.floor, tracker.floor_certain) == (2, True)
     climb = [tracker.update(i, _features(0.15), 0.0, 0.0) for i in range(20)]
@@ -540,7 +546,7 @@ def test_stairs_6_mm_apart_are_told_apart_on_a_sensor_whose_level_strides_say_it
 
 def test_the_floor_changes_only_when_the_height_settles_no_flicker():
     """Two flights with a landing at half a storey: no floor change until the level floor."""
-    params = ElevationParams(step_height_m=0.15, floor_height_m=3.0, **FIXED_K)
+    params = ElevationParams(step_height_m=0.15, **FIXED_K, **KNOWN_3M_STOREYS)
     walker = _walker(params)
     walker.stride(0)
     seen = [(e.floor, e.floor_certain) for e in walker.flight(1, [2] * 5, 0.15)]   # 1.50 m
@@ -597,7 +603,7 @@ def test_a_resumed_estimate_carries_on():
 
 def test_a_level_stretch_off_every_floor_moves_to_the_nearest_uncertain():
     """5.4 m down with 3 m storeys: not a floor, but after a level stretch floor -2, in doubt."""
-    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K))
+    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K, **KNOWN_3M_STOREYS))
     walker.flight(-1, [2] * 18, 0.15)
     stretch = [walker.stride(0) for _ in range(4)]
     assert [(e.floor, e.floor_certain) for e in stretch] == [
@@ -616,3 +622,64 @@ def test_a_height_settled_on_a_building_floor_takes_its_elevation():
     free = _walker(ElevationParams(step_height_m=0.15, floor_height_m=2.88, **FIXED_K))
     free.flight(1, [1] * 19, 0.15)
     assert free.stride(0).height_m == pytest.approx(2.85, abs=1e-12)
+
+
+@pytest.mark.parametrize('storey_m', [2.8, 3.0, 3.3, 3.6, 4.0, 4.5])
+@pytest.mark.parametrize('lobby_m', [None, 4.2, 6.0])
+def test_without_a_building_file_no_storey_height_gives_a_wrong_floor_that_is_certain(
+        storey_m, lobby_m):
+    """Storeys of 2.8-4.5 m, lobby up to 6 m: the floor is right whenever it says certain."""
+    k_m = 0.15
+    storeys = [lobby_m or storey_m] + [storey_m] * 5
+    walker = _walker(ElevationParams(step_height_m=k_m, **FIXED_K))
+    true_m = 0.0
+    for floor, storey in enumerate(storeys, start=1):
+        risers = round(storey / k_m)
+        walker.flight(1, [2] * (risers // 2) + [1] * (risers % 2), k_m)
+        true_m += risers * k_m
+        stretch = [walker.stride(0) for _ in range(4)]
+        assert stretch[-1].height_m == pytest.approx(true_m, abs=1e-9)
+        assert all(e.floor == floor for e in stretch if e.floor_certain), (floor, true_m)
+        if abs(true_m - 3.0) <= 0.5:            # floor 1, where the guess of 3 m agrees
+            assert stretch[-1].floor_certain
+
+
+def test_without_a_building_file_the_floors_a_height_can_be_on():
+    """C(h) = {f : E_f,min - tol <= h <= E_f,max + tol}, storeys 2.8-4.5 m, lobby 6 m."""
+    floors = floor_map_for(None, 0, 3.0, (2.8, 4.5), 6.0)
+    assert floors.elevation_range_m(0) == (0.0, 0.0)
+    assert floors.elevation_range_m(1) == (2.8, 6.0)                  # the lobby
+    assert floors.elevation_range_m(3) == pytest.approx((8.4, 15.0))
+    assert floors.elevation_range_m(-2) == pytest.approx((-9.0, -5.6))
+    assert floors.candidates(12.0, 0.5) == (3, 4)            # 3 of 4 m or 4 of 3 m
+    assert floors.place(12.0, 0.5) == (4, False)             # the guess of 3 m, in doubt
+    assert floors.place(3.2, 0.5) == (1, True)               # both agree
+    assert floors.place(4.9, 0.5) == (1, False)              # only floor 1 holds it, but
+    assert floors.place(5.5, 0.5) == (2, False)              # 4.9 m is no 3 m storey
+    assert floors.place(1.5, 0.5) == (1, False)              # between floors: none fits
+    assert floors.place(-8.0, 0.5) == (-3, False)            # -2 (of 4 m) or -3
+    assert floors.place(-5.8, 0.5) == (-2, True)
+    started_on_2 = floor_map_for(None, 2, 3.0, (2.8, 4.5), 6.0)
+    assert started_on_2.elevation_range_m(3) == pytest.approx((2.8, 4.5))     # no lobby crossed
+    assert started_on_2.elevation_range_m(1) == pytest.approx((-4.5, -2.8))
+    assert started_on_2.elevation_range_m(0) == pytest.approx((-10.5, -5.6))  # lobby crossed
+    assert started_on_2.elevation_range_m(-1) == pytest.approx((-15.0, -8.4))  # lobby crossed
+    known = floor_map_for(None, 0, 3.0)                      # storeys known to be 3 m
+    assert known.place(12.0, 0.5) == (4, True)
+    assert known.place(13.0, 0.5) == (4, False)
+    assert floor_map_for(None, 0, 2.5, (2.8, 4.5)).storey_range_m == (2.5, 4.5)   # holds H
+
+
+def test_the_floors_a_height_can_be_on_are_published_after_a_level_stretch():
+    """Floor range: (f, f) while certain, None on the stairs, C(h) on a level stretch."""
+    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K))
+    assert walker.tracker.floor_range == (0, 0)
+    climb = walker.flight(1, [2] * 40, 0.15)                  # 12 m: floor 3 of 4 m, 4 of 3 m
+    assert {e.floor_certain for e in climb} == {False}
+    assert walker.tracker.floor_range is None
+    stretch = [walker.stride(0) for _ in range(3)]
+    assert walker.tracker.floor_range == (3, 4)
+    assert (stretch[-1].floor, stretch[-1].floor_certain) == (4, False)
+    known = _walker(ElevationParams(step_height_m=0.15, **FIXED_K, **KNOWN_3M_STOREYS))
+    known.flight(1, [2] * 40, 0.15)
+    assert (known.stride(0).floor_certain, known.tracker.floor_range) == (True, (4, 4))

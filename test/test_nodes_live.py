@@ -77,7 +77,8 @@ def offline_cycles(bag, params, out_dir):
 
 def reset(listener):
     """Forget what the listener collected."""
-    for items in (listener.elevations, listener.modes, listener.floors, listener.cycles):
+    for items in (listener.elevations, listener.modes, listener.floors, listener.cycles,
+                  listener.floor_ranges):
         items.clear()
     listener.diagnostics.clear()
 
@@ -123,3 +124,6 @@ def test_live_nodes_equal_offline_replay(storage, imu, workspace, listener, tmp_
     final_floor, _ = truth_floors()
     assert floors[-1] == final_floor == int(expected[-1]['floor'])
     assert max(floors) == max(int(r['floor']) for r in expected)
+    # With every floor, the floors the height can be on: the start floor alone at the end.
+    assert len(listener.floor_ranges) == len(listener.floors)
+    assert listener.floor_ranges[-1][0] == [final_floor, final_floor]

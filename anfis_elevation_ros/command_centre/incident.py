@@ -131,6 +131,25 @@ class Incident:
             r.floor_certain = certain
             self._updated(r, now)
 
+    def update_floor_range(self, responder: str, floors) -> None:
+        """
+        Take one ``floor_range`` message: [lowest, highest] floor the height can be on, or [].
+
+        A floor in doubt with a range (a height several floors could have, no building file)
+        is shown as that range and raises no ``floor_unknown`` alarm: the tracker is not lost,
+        the storeys are unknown.
+        """
+        with self._lock:
+            if not isinstance(floors, (list, tuple)) or len(floors) not in (0, 2) \
+                    or not all(_is_int(f) and abs(f) <= 10_000 for f in floors) \
+                    or (floors and floors[0] > floors[1]):
+                return self._reject('floor_range: not [] or [lowest, highest]')
+            r = self._responder(responder)
+            if r is None:
+                return
+            r.floor_range = (int(floors[0]), int(floors[1])) if floors else None
+            self._updated(r, self._clock())
+
     def update_mode(self, responder: str, mode: int) -> None:
         """Take one ``stair_mode`` message: -1 down, 0 level, +1 up."""
         with self._lock:
@@ -296,8 +315,7 @@ class Incident:
                          f'{len(self._responders)} responders', who)
             for r in sorted(self._responders.values(), key=lambda r: r.rid):
                 state = r.to_dict(now, track=False)
-                floor = 'Floor ?' if not state['floor_certain'] or state['floor'] is None \
-                    else f'Floor {state["floor"]}'
+                floor = _floor_text(state)
                 active = ', '.join(a['title'] for a in state['alarms']) or 'no alarm'
                 self._record(r.rid, 'roll call', None,
                              f'{floor}, last contact {state["last_update_age_s"]:.0f} s ago, '
@@ -350,8 +368,8 @@ class Incident:
             if lost else None,
             al.DIAGNOSTICS_ERROR: _diagnostics_cause(r.diagnostics),
             al.FLOOR_UNKNOWN: (al.ALARM, f'floor uncertain for {now - r.uncertain_since:.0f} s')
-            if r.uncertain_since is not None and now - r.uncertain_since >= p.floor_unknown_s
-            else None,
+            if r.uncertain_since is not None and r.floor_range is None
+            and now - r.uncertain_since >= p.floor_unknown_s else None,
         }
         level = None if lost else al.no_motion_level(now - r.last_motion, p)
         still = r.alarm_of(al.NO_MOTION)
@@ -418,6 +436,16 @@ class Incident:
             f['uncertain'] += not r.floor_certain
             f['alarms'] += sum(a.severity == al.ALARM for a in r.alarms.values())
         return [floors[k] for k in sorted(floors, reverse=True)]
+
+
+def _floor_text(state: dict) -> str:
+    """Return a responder's floor as the page shows it: 'Floor 2', 'Floor 2-3?', 'Floor ?'."""
+    floors = state['floor_range']
+    if state['floor'] is None or not (state['floor_certain'] or floors):
+        return 'Floor ?'
+    if state['floor_certain']:
+        return f'Floor {state["floor"]}'
+    return f'Floor {floors[0]}' + (f'-{floors[1]}' if floors[1] != floors[0] else '') + '?'
 
 
 def _is_int(value) -> bool:

@@ -42,6 +42,7 @@ class Responder:
         self.rid = rid
         self.floor = None
         self.floor_certain = True
+        self.floor_range = None         # (lowest, highest) floor the height can be on
         self.uncertain_since = None
         self.x_m = self.y_m = self.z_m = None
         self.mode = None
@@ -120,6 +121,7 @@ class Responder:
             'id': self.rid,
             'floor': self.floor,
             'floor_certain': self.floor_certain,
+            'floor_range': None if self.floor_range is None else list(self.floor_range),
             'x_m': self.x_m, 'y_m': self.y_m, 'z_m': self.z_m,
             'mode': self.mode,
             'heading_deg': self.heading_deg,

@@ -19,6 +19,15 @@ Floors come from the building file's elevations when there is one (storeys of an
 taller lobby), else from one storey height H and the start floor. Heights are relative to the
 start floor's walking surface (0 at the first stance, plus ``start_height_m``).
 
+Without a building file nobody knows the storeys, so H is only a guess: a height of 12 m is
+floor 4 of 3 m storeys and floor 3 of 4 m ones. A floor is then certain only where every
+building with storeys in a plausible range [H_min, H_max] (and a ground storey, the lobby, up
+to L_max) puts the same floor (:meth:`FloorMap.candidates`), and the height is also within
+the tolerance of the guess's elevation (:meth:`FloorMap.place`), after a level stretch (a
+landing can be at a floor's height); elsewhere the floor is the guess of H, not certain, and
+:attr:`FloorSettler.floor_range` says which floors the height can be on. With the defaults
+(2.8-4.5 m, lobby 6 m, H 3 m) the start floor and the floors next to it can be certain.
+
 Settle rule (our choice; the method rounds h / H at every cycle, which flickers on landings and
 mid-flight): the floor changes only at a level cycle whose height lies within a tolerance of a
 floor's elevation, or after a level stretch (:func:`settled_floor`). While on stairs, on a
@@ -107,6 +116,9 @@ class FloorMap:
     storey_m : float, storey height H (used when ``indices`` is empty), m.
     indices : tuple of int, the building's floors (empty: uniform storeys of ``storey_m``).
     elevations_m : tuple of float, their elevations minus the start floor's, m.
+    storey_range_m : (H_min, H_max), the storeys' plausible heights without a building, m.
+    lobby_max_m : float, L_max, how tall the ground storey (floor 0 to 1) can be, m (below
+        H_max: no taller than the others).
 
     """
 
@@ -114,6 +126,8 @@ class FloorMap:
     storey_m: float = 3.0
     indices: tuple = ()
     elevations_m: tuple = ()
+    storey_range_m: tuple = (3.0, 3.0)
+    lobby_max_m: float = 0.0
 
     def nearest(self, height_m: float) -> tuple:
         """
@@ -128,12 +142,84 @@ class FloorMap:
         k = int(np.argmin(np.abs(np.asarray(self.elevations_m) - height_m)))
         return self.indices[k], height_m - self.elevations_m[k]
 
+    @property
+    def storeys_known(self) -> bool:
+        """Return whether the floors' elevations are known: a building file, or storeys of H."""
+        h_min, h_max = self.storey_range_m
+        return bool(self.indices) or (h_min == h_max and self.lobby_max_m <= h_max)
 
-def floor_map_for(building, start_floor: int, storey_m: float) -> FloorMap:
+    def place(self, height_m: float, tolerance_m: float) -> tuple:
+        """
+        Return the floor a height is taken to be on and whether it is sure: (f, sure).
+
+        The nearest floor f (:meth:`nearest`; without a building file the guess of H, moved
+        into the candidates C(h) when they are not empty), sure when |h - E_f| <= tol and,
+        without a building file, C(h) = {f}: both the guess of H and every plausible storey
+        height put h on f. The first alone is wrong in most buildings (storeys other than H);
+        the second alone cannot see a height error (floor 1 holds 2.3-5.1 m).
+        """
+        floor, offset_m = self.nearest(height_m)
+        sure = abs(offset_m) <= tolerance_m
+        if self.indices:
+            return floor, sure
+        lowest, highest = self.candidates(height_m, tolerance_m)
+        if lowest > highest:
+            return floor, False
+        return min(max(floor, lowest), highest), sure and lowest == highest == floor
+
+    def elevation_range_m(self, floor: int) -> tuple:
+        """
+        Return the lowest and highest elevation a floor can have without a building file, m.
+
+        Floor f is n = |f - f_0| storeys from the start floor f_0, each of H_min..H_max but the
+        ground storey (between floors 0 and 1, when crossed), which may be up to
+        L = max(L_max, H_max):
+
+            E_f in sign(f - f_0) [n H_min, n H_max + (L - H_max) [lobby crossed]]
+
+        With a building file the floor's own elevation (both ends the same).
+        """
+        if self.indices:
+            elevation_m = self.elevations_m[self.indices.index(floor)]
+            return elevation_m, elevation_m
+        low_floor, high_floor = sorted((int(floor), self.start_floor))
+        storeys = high_floor - low_floor
+        h_min, h_max = self.storey_range_m
+        lobby_m = max(self.lobby_max_m, h_max) if low_floor <= 0 < high_floor else h_max
+        shortest, tallest = storeys * h_min, storeys * h_max + (lobby_m - h_max) * (storeys > 0)
+        return (shortest, tallest) if floor >= self.start_floor else (-tallest, -shortest)
+
+    def candidates(self, height_m: float, tolerance_m: float) -> tuple:
+        """
+        Return the floors a height can be on, within the tolerance: (lowest, highest).
+
+        C(h) = {f : E_f,min - tol <= h <= E_f,max + tol}, an interval of floors; with a
+        building file the floor nearest h alone, if h is within tol of it. Empty (lowest >
+        highest) between two floors' ranges (a landing, a mezzanine).
+        """
+        nearest, offset_m = self.nearest(height_m)
+        if self.indices:
+            return (nearest, nearest) if abs(offset_m) <= tolerance_m else (nearest + 1, nearest)
+        h_min, h_max = self.storey_range_m
+        side = 1 if height_m >= 0.0 else -1
+        inside = []
+        for storeys in range(max(0, int(abs(height_m) // max(h_max, self.lobby_max_m)) - 1),
+                             int(abs(height_m) // h_min) + 2):
+            floor = self.start_floor + side * storeys
+            low_m, high_m = self.elevation_range_m(floor)
+            if low_m - tolerance_m <= height_m <= high_m + tolerance_m:
+                inside.append(floor)
+        return (min(inside), max(inside)) if inside else (nearest + 1, nearest)
+
+
+def floor_map_for(building, start_floor: int, storey_m: float,
+                  storey_range_m: Optional[tuple] = None, lobby_max_m: float = 0.0) -> FloorMap:
     """
-    Return the floors of a building (None: uniform storeys) seen from the start floor.
+    Return the floors of a building (None: storeys of about ``storey_m``) seen from the start.
 
     The start floor is the building's ``start.floor`` when it has one, else ``start_floor``.
+    Without a building the storeys may be anywhere in ``storey_range_m`` (None: exactly
+    ``storey_m``), widened to hold ``storey_m``, and the ground storey up to ``lobby_max_m``.
 
     Raises
     ------
@@ -141,7 +227,11 @@ def floor_map_for(building, start_floor: int, storey_m: float) -> FloorMap:
 
     """
     if building is None:
-        return FloorMap(start_floor=int(start_floor), storey_m=float(storey_m))
+        low_m, high_m = storey_range_m if storey_range_m is not None else (storey_m, storey_m)
+        return FloorMap(start_floor=int(start_floor), storey_m=float(storey_m),
+                        storey_range_m=(float(min(low_m, storey_m)),
+                                        float(max(high_m, storey_m))),
+                        lobby_max_m=float(lobby_max_m))
     if building.start is not None:
         start_floor = building.start.floor
     if not building.has_floor(start_floor):
@@ -154,18 +244,23 @@ def floor_map_for(building, start_floor: int, storey_m: float) -> FloorMap:
                     elevations_m=tuple(float(f.elevation_m - base) for f in building.floors))
 
 
-def settled_floor(floor: int, level_cycles: int, nearest: int, offset_m: float,
-                  tolerance_m: float) -> tuple:
+def settled_floor(floor: int, level_cycles: int, place: int, sure: bool,
+                  settle_cycles: int = 1) -> tuple:
     """
     Floor after a gait cycle, and whether it is certain: the settle rule.
 
-    on_floor_i = (L_i >= 1 and |h_i - E_nearest| <= tol)
-    floor_i = nearest if on_floor_i or L_i >= L_stretch else floor_{i-1};  certain_i = on_floor_i
+    on_floor_i = (L_i >= L_settle and sure_i)
+    floor_i = place_i if on_floor_i or L_i >= L_stretch else floor_{i-1};  certain_i = on_floor_i
 
-    L_i counts the consecutive level cycles up to this one (0 on stairs). A level stretch of
+    L_i counts the consecutive level cycles up to this one (0 on stairs); (place_i, sure_i)
+    from :meth:`FloorMap.place` at the cycle's height: sure when the height can be on that
+    floor alone (within the tolerance of its elevation). L_settle (``settle_cycles``) is 1
+    where the floors' elevations are known, :data:`LEVEL_STRETCH_CYCLES` where the storeys
+    are not (a landing can be at a floor's height there). A level stretch of
     :data:`LEVEL_STRETCH_CYCLES` off every floor (a mezzanine, a height error beyond the
-    tolerance, storeys unlike ``floor_height_m``) moves to the nearest floor, uncertain; a
-    landing turn (1-2 cycles) between floors does not.
+    tolerance, storeys unlike ``floor_height_m``, a height that several floors could have
+    without a building file) moves to that floor, uncertain; a landing turn (1-2 cycles)
+    between floors does not.
 
     Parameters
     ----------
@@ -173,19 +268,19 @@ def settled_floor(floor: int, level_cycles: int, nearest: int, offset_m: float,
         Floor before the cycle.
     level_cycles : int
         L_i.
-    nearest, offset_m : int, float
-        From :meth:`FloorMap.nearest` at the cycle's height.
-    tolerance_m : float
-        tol, m.
+    place, sure : int, bool
+        From :meth:`FloorMap.place`.
+    settle_cycles : int
+        L_settle.
 
     Returns
     -------
     (int, bool).
 
     """
-    on_floor = level_cycles >= 1 and abs(offset_m) <= tolerance_m
+    on_floor = level_cycles >= max(1, settle_cycles) and sure
     moved = on_floor or level_cycles >= LEVEL_STRETCH_CYCLES
-    return (int(nearest) if moved else int(floor)), bool(on_floor)
+    return (int(place) if moved else int(floor)), bool(on_floor)
 
 
 class FloorSettler:
@@ -199,8 +294,8 @@ class FloorSettler:
     tolerance_m : float > 0
         How far from a floor's elevation a level height may be and still settle on it, m.
     height_m : float
-        Height at the start (or at a resume): the floor nearest it, certain if within the
-        tolerance.
+        Height at the start (or at a resume): the floor it is on (:meth:`FloorMap.place`),
+        certain if it can be on no other.
 
     """
 
@@ -215,9 +310,9 @@ class FloorSettler:
     def rebase(self, floor_map: FloorMap, height_m: float, certain: Optional[bool] = None):
         """Take new floors (a parameter change): the floor nearest the height."""
         self.floor_map = floor_map
-        self.floor, offset_m = floor_map.nearest(height_m)
-        within = abs(offset_m) <= self.tolerance_m
-        self.certain = within if certain is None else (certain and within)
+        self.height_m = float(height_m)
+        self.floor, sure = floor_map.place(height_m, self.tolerance_m)
+        self.certain = sure if certain is None else (certain and sure)
 
     def update(self, height_m: float, mode: Optional[int]) -> int:
         """
@@ -231,7 +326,26 @@ class FloorSettler:
                 return self.floor
             mode = MODE_LEVEL
         self.level_cycles = self.level_cycles + 1 if mode == MODE_LEVEL else 0
-        nearest, offset_m = self.floor_map.nearest(height_m)
-        self.floor, self.certain = settled_floor(self.floor, self.level_cycles, nearest,
-                                                 offset_m, self.tolerance_m)
+        self.height_m = float(height_m)
+        place, sure = self.floor_map.place(height_m, self.tolerance_m)
+        settle_cycles = 1 if self.floor_map.storeys_known else LEVEL_STRETCH_CYCLES
+        self.floor, self.certain = settled_floor(self.floor, self.level_cycles, place, sure,
+                                                 settle_cycles)
         return self.floor
+
+    @property
+    def floor_range(self) -> Optional[tuple]:
+        """
+        Return the floors the height can be on, (lowest, highest), or None when not known.
+
+        (floor, floor) while certain. On a level stretch (:data:`LEVEL_STRETCH_CYCLES`) that
+        is not: the candidates C(h) (:meth:`FloorMap.candidates`; without a building file a
+        height several floors could have). None on the stairs, on a landing turn, and where
+        no floor fits (a mezzanine, a height off every floor of the file).
+        """
+        if self.certain:
+            return self.floor, self.floor
+        if self.level_cycles < LEVEL_STRETCH_CYCLES:
+            return None
+        lowest, highest = self.floor_map.candidates(self.height_m, self.tolerance_m)
+        return (lowest, highest) if lowest <= highest else None

@@ -117,7 +117,15 @@ class ElevationParams:
         own: the threshold the training tool chose by cross-validation, stored in the model's
         metadata as ``mode_threshold`` (0.5, the midpoint of the targets -1 / 0 / +1, for a
         model without one). So a retrained model brings its threshold along.
-    floor_height_m : storey height H, m, >= 2.0; 3.0 m is a common storey.
+    floor_height_m : storey height H, m, >= 2.0; 3.0 m is a common storey. Without a building
+        file only a guess: the floor is certain only where every storey height within
+        [floor_height_min_m, floor_height_max_m] (and a ground storey, the lobby, up to
+        ``lobby_height_max_m``) gives the same floor (``core/floors.py``).
+    floor_height_min_m, floor_height_max_m : the storeys' plausible heights without a building
+        file, m (the issue's 2.8-4.5 m); both equal to ``floor_height_m`` and
+        ``lobby_height_max_m`` 0: storeys known to be H.
+    lobby_height_max_m : how tall the ground storey (floor 0 to floor 1) can be, m (6.0); at
+        most ``floor_height_max_m``: no taller than the others.
     start_floor : floor of the start point (int).
     start_height_m : height of the start point above the start floor's reference, m.
     floor_tolerance_m : a level height this close to a floor's elevation settles on that floor,
@@ -132,6 +140,9 @@ class ElevationParams:
     start_height_m: float = 0.0
     step_height_sigma_m: float = PRIOR_SIGMA_M
     floor_tolerance_m: float = 0.5
+    floor_height_min_m: float = 2.8
+    floor_height_max_m: float = 4.5
+    lobby_height_max_m: float = 6.0
 
     def __post_init__(self):
         check_range('ElevationParams.step_height_m', self.step_height_m, 0.10, 0.25)
@@ -140,6 +151,10 @@ class ElevationParams:
         check_range('ElevationParams.mode_threshold', self.mode_threshold, -1.0, 1.0)
         check_finite('ElevationParams.floor_height_m', self.floor_height_m)
         check_range('ElevationParams.floor_height_m', self.floor_height_m, 2.0, math.inf)
+        check_range('ElevationParams.floor_height_min_m', self.floor_height_min_m, 2.0, 20.0)
+        check_range('ElevationParams.floor_height_max_m', self.floor_height_max_m,
+                    self.floor_height_min_m, 20.0)
+        check_range('ElevationParams.lobby_height_max_m', self.lobby_height_max_m, 0.0, 20.0)
         check_finite('ElevationParams.start_height_m', self.start_height_m)
         start_floor = self.start_floor
         if isinstance(start_floor, bool) or not isinstance(start_floor, numbers.Integral):
@@ -163,6 +178,8 @@ class CycleEstimate:
     floor_certain : bool, whether the height is settled on the floor (False on stairs, on a
         landing between floors, off every floor).
     step_height_m : float, riser height K in use (the estimate, the file's, or the parameter), m.
+    floor_range : (lowest, highest) floor the height can be on, or None when not known
+        (``FloorSettler.floor_range``).
 
     """
 
@@ -176,6 +193,7 @@ class CycleEstimate:
     bridged_steps: int = 0
     floor_certain: bool = True
     step_height_m: float = float('nan')
+    floor_range: Optional[tuple] = None
 
 
 def model_mode_threshold(model, params: ElevationParams) -> float:
@@ -311,7 +329,9 @@ class ElevationTracker:
         self.floors.rebase(self.floors.floor_map, self.height_m)
 
     def _floor_map(self, params: ElevationParams):
-        return floor_map_for(self.building, params.start_floor, params.floor_height_m)
+        return floor_map_for(self.building, params.start_floor, params.floor_height_m,
+                             (params.floor_height_min_m, params.floor_height_max_m),
+                             params.lobby_height_max_m)
 
     def set_params(self, params: ElevationParams):
         """
@@ -363,6 +383,11 @@ class ElevationTracker:
     def floor_certain(self) -> bool:
         """Return whether the height is settled on the floor."""
         return self.floors.certain
+
+    @property
+    def floor_range(self) -> Optional[tuple]:
+        """Return the floors the height can be on, (lowest, highest), or None (FloorSettler)."""
+        return self.floors.floor_range
 
     def update(self, stamp_ns: int, features, x_m: float, y_m: float,
                valid: bool = True) -> CycleEstimate:
@@ -532,4 +557,4 @@ class ElevationTracker:
         return CycleEstimate(stamp_ns=int(stamp_ns), mode=mode, height_m=self.height_m,
                              floor=self.floor, x_m=x_m, y_m=y_m, anfis_output=output,
                              bridged_steps=bridged, floor_certain=self.floor_certain,
-                             step_height_m=self.step_height_m)
+                             step_height_m=self.step_height_m, floor_range=self.floor_range)

@@ -336,6 +336,16 @@ _DOCS = {
                               -100, 1000, _LIVE),
     'elevation.start_height_m': ('Height of the start point above its floor reference, m.',
                                  -1000.0, 1000.0, _READ_ONLY),
+    'elevation.floor_height_min_m': ('Lowest plausible storey without a building file, m: the '
+                                     'floor is certain only where every storey height from '
+                                     'floor_height_min_m to floor_height_max_m gives the same '
+                                     'floor (floor_height_m is the guess in between).', 2.0,
+                                     20.0, _LIVE),
+    'elevation.floor_height_max_m': ('Highest plausible storey without a building file, m.',
+                                     2.0, 20.0, _LIVE),
+    'elevation.lobby_height_max_m': ('How tall the ground storey (floor 0 to 1) can be without '
+                                     'a building file, m; at most floor_height_max_m: no taller '
+                                     'than the others.', 0.0, 20.0, _LIVE),
     'elevation.floor_tolerance_m': ('The floor changes at a level cycle whose height is this '
                                     "close to the floor's elevation, m (else it is not "
                                     'certain).', 0.05, 1.5, _LIVE),

@@ -39,7 +39,12 @@ Publishes (reliable, transient local, depth 1: a late subscriber gets the latest
     ``floor_certain``, std_msgs/Bool, with every ``floor``: whether the height has settled on
     the floor (False on stairs, on a landing between floors, level but off every floor; a map
     shows 'Floor ?'). Floors come from the building file's elevations when ``building_file``
-    is given, else from ``elevation.floor_height_m`` and ``elevation.start_floor``.
+    is given, else from ``elevation.floor_height_m`` and ``elevation.start_floor``, certain
+    only where every plausible storey height agrees (``core/floors.py``).
+    ``floor_range``, std_msgs/Int32MultiArray, with every ``floor``: [lowest, highest], the
+    floors the height can be on ([f, f] while certain; on a level stretch without a building
+    file, the floors storeys of ``floor_height_min_m``-``floor_height_max_m`` allow), or []
+    when not known (on the stairs, off every floor, after an outage).
     ``stair_fix``, sensor_msgs/PointCloud2 (layout in ``nodes/stair_fix_msg.py``), reliable,
     transient local, depth 100, only with a building file that has ``stairs`` and a ``start``:
     one correction request per stair entry associated with the stair-position database
@@ -85,7 +90,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped
 from rclpy.node import Node
 from sensor_msgs.msg import PointCloud2
-from std_msgs.msg import Bool, Int32, Int8
+from std_msgs.msg import Bool, Int32, Int32MultiArray, Int8
 
 from .diagnostics import diagnostic_status
 from .gait_cycle_msg import cycle_from_msg
@@ -187,6 +192,7 @@ class ClassifierNode(PersistsState, Node):
         self._mode_pub = self.create_publisher(Int8, 'stair_mode', LATEST_QOS)
         self._floor_pub = self.create_publisher(Int32, 'floor', LATEST_QOS)
         self._floor_certain_pub = self.create_publisher(Bool, 'floor_certain', LATEST_QOS)
+        self._floor_range_pub = self.create_publisher(Int32MultiArray, 'floor_range', LATEST_QOS)
         self._diag_pub = self.create_publisher(DiagnosticArray, '/diagnostics', DIAGNOSTICS_QOS)
         self._fix_pub = None
         if self._stair_monitor is not None:
@@ -399,7 +405,12 @@ class ClassifierNode(PersistsState, Node):
     def _publish_floor(self, floor: int, certain: bool = True):
         self._floor_pub.publish(Int32(data=int(floor)))
         # The settle rule's certainty (core/floors.py) and an outage's doubt (core/outage.py).
-        self._floor_certain_pub.publish(Bool(data=bool(certain) and self._doubt.certain))
+        certain = bool(certain) and self._doubt.certain
+        self._floor_certain_pub.publish(Bool(data=certain))
+        # The floors the height can be on; none known after an outage (its height is in doubt).
+        floors = (floor, floor) if certain else self._tracker.floor_range
+        known = floors is not None and self._doubt.certain
+        self._floor_range_pub.publish(Int32MultiArray(data=list(floors) if known else []))
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""

@@ -26,6 +26,7 @@ topic                   type             QoS                           Incident
 ``elevation``           PointStamped     reliable, transient local, 1  update_elevation
 ``floor``               Int32            reliable, transient local, 1  update_floor
 ``floor_certain``       Bool             reliable, transient local, 1  update_floor_certain
+``floor_range``         Int32MultiArray  reliable, transient local, 1  update_floor_range
 ``stair_mode``          Int8             reliable, transient local, 1  update_mode
 ``foot_odom_throttle``  Odometry (raw)   reliable, transient local, 1  update_pose
 ``/diagnostics``        DiagnosticArray  reliable, volatile, 10        update_diagnostics
@@ -57,7 +58,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from std_msgs.msg import Bool, Int32, Int8
+from std_msgs.msg import Bool, Int32, Int32MultiArray, Int8
 
 from .node_params import declare_node_parameters
 from .odometry_msg import odometry_from_cdr
@@ -205,6 +206,8 @@ class CommandCentreNode(Node):
                 ns, stamp_to_ns(m.header.stamp), m.point.x, m.point.y, m.point.z)),
             (Int32, 'floor', lambda m: incident.update_floor(ns, m.data)),
             (Bool, 'floor_certain', lambda m: incident.update_floor_certain(ns, m.data)),
+            (Int32MultiArray, 'floor_range',
+             lambda m: incident.update_floor_range(ns, [int(f) for f in m.data])),
             (Int8, 'stair_mode', lambda m: incident.update_mode(ns, m.data)),
         )
         for msg_type, name, feed in feeds:

@@ -16,9 +16,10 @@
 Three simulated responders in a three-storey tower: the command-centre demo and tests.
 
 The tower has one stairwell, floors 0, 1 and 2, ``STOREY_STEPS`` risers of ``STEP_HEIGHT_M``
-per storey (3.06 m: floors at 0, 3.06 and 6.12 m, which the nodes' default storey height of
-3 m tells apart). Each responder walks a :func:`~.scenarios.tower_walk` route with short
-corridors and then stands still for ``final_stand_s``:
+per storey (3.06 m: floors at 0, 3.06 and 6.12 m; without the tower's building file, which
+:func:`tower_building` gives, the nodes could not tell floor 2 from floor 1 of a taller
+lobby). Each responder walks a :func:`~.scenarios.tower_walk` route with short corridors and
+then stands still for ``final_stand_s``:
 
 - ``/ff1`` climbs to floor 1,
 - ``/ff2`` climbs to floor 2,

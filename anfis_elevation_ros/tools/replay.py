@@ -30,12 +30,15 @@ every Imu message of the bag through the same objects the nodes run (input gate,
   the first stance sample closing the cycle, stair mode, quantised height), then ``floor``,
   ``anfis_output``, ``valid``, ``raw_height_m`` (INS height), the five features, then
   ``floor_certain`` (1 when the height is settled on the floor) and ``step_height_m`` (the riser
-  height K in use: the online estimate, or the building file's).
+  height K in use: the online estimate, or the building file's), then ``floor_lowest`` and
+  ``floor_highest``: the floors the height can be on (both the floor while certain; empty when
+  not known: on the stairs, off every floor; ``core/floors.py``).
 """
 
 import argparse
 import csv
 from dataclasses import dataclass
+import math
 from pathlib import Path
 import sys
 import time
@@ -56,7 +59,8 @@ from ..core.stair_database import stair_monitor_for
 
 TRACK_COLUMNS = ('stamp_ns', 'x_m', 'y_m', 'z_m', 'qw', 'qx', 'qy', 'qz', 'stance')
 CYCLE_COLUMNS = ('stamp_ns', 'mode', 'height_m', 'x_m', 'y_m', 'floor', 'anfis_output', 'valid',
-                 'raw_height_m') + FEATURE_NAMES + ('floor_certain', 'step_height_m')
+                 'raw_height_m') + FEATURE_NAMES + ('floor_certain', 'step_height_m',
+                                                    'floor_lowest', 'floor_highest')
 PROGRESS_PERIOD_S = 5.0
 
 
@@ -201,17 +205,21 @@ def cycle_row(cycle, tracker: ElevationTracker) -> tuple:
     return (cycle.stamp_ns, estimate.mode, estimate.height_m, x_m, y_m, estimate.floor,
             estimate.anfis_output, int(cycle.valid), raw_height_m,
             *(float(f) for f in cycle.features), int(estimate.floor_certain),
-            estimate.step_height_m)
+            estimate.step_height_m, *(estimate.floor_range or (math.nan, math.nan)))
 
 
 def write_csv(path: Path, columns, rows, integer_columns=()) -> None:
-    """Write rows under a header; integer columns as integers, the rest with full precision."""
+    """
+    Write rows under a header, integer columns as integers, the rest with full precision.
+
+    An integer column's NaN (not known) is written empty.
+    """
     integer = [name in integer_columns for name in columns]
     with open(path, 'w', newline='') as f:
         writer = csv.writer(f)
         writer.writerow(columns)
         for row in rows:
-            writer.writerow([int(v) if is_int else repr(float(v))
+            writer.writerow([repr(float(v)) if not is_int else '' if v != v else int(v)
                              for v, is_int in zip(row, integer)])
 
 
@@ -240,7 +248,8 @@ def run_replay(args: argparse.Namespace) -> int:
               ((stamp, *row) for stamp, row in zip(result.track_stamp_ns.tolist(), result.track)),
               ('stamp_ns', 'stance'))
     write_csv(out / 'cycles.csv', CYCLE_COLUMNS, result.cycles,
-              ('stamp_ns', 'mode', 'floor', 'valid', 'floor_certain'))
+              ('stamp_ns', 'mode', 'floor', 'valid', 'floor_certain', 'floor_lowest',
+               'floor_highest'))
     status = result.navigator.status
     if not status.initialised:
         raise InputError(f'{args.bag}: the foot never stood still long enough to start '

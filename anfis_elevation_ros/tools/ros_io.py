@@ -266,6 +266,7 @@ class CycleListener(Node):
     ----------
     elevations : list of (stamp_ns, x_m, y_m, height_m, receive_time_ns)
     modes, floors, floor_certain : list of (value, receive_time_ns)
+    floor_ranges : list of (list of int, receive_time_ns), from ``floor_range``
     cycles : list of (CycleMessage, receive_time_ns), from ``gait_cycle``
     diagnostics : dict
         {status name: (level, message, {key: value})}, the latest of each.
@@ -276,13 +277,13 @@ class CycleListener(Node):
         from diagnostic_msgs.msg import DiagnosticArray
         from geometry_msgs.msg import PointStamped
         from sensor_msgs.msg import PointCloud2
-        from std_msgs.msg import Bool, Int32, Int8
+        from std_msgs.msg import Bool, Int32, Int32MultiArray, Int8
 
         from ..nodes.qos import DIAGNOSTICS_QOS
 
         super().__init__('cycle_listener', **node_kwargs)
         self.elevations, self.modes, self.floors, self.cycles = [], [], [], []
-        self.floor_certain = []
+        self.floor_certain, self.floor_ranges = [], []
         self.diagnostics = {}
         self._on_elevation = on_elevation
         self.create_subscription(DiagnosticArray, '/diagnostics', self._diagnostics,
@@ -296,6 +297,7 @@ class CycleListener(Node):
         self.create_subscription(Int8, 'stair_mode', self._mode, latest)
         self.create_subscription(Int32, 'floor', self._floor, latest)
         self.create_subscription(Bool, 'floor_certain', self._floor_certain, latest)
+        self.create_subscription(Int32MultiArray, 'floor_range', self._floor_range, latest)
         self.create_subscription(PointCloud2, 'gait_cycle', self._cycle, CYCLE_QOS)
 
     def _elevation(self, msg):
@@ -315,6 +317,9 @@ class CycleListener(Node):
 
     def _floor_certain(self, msg):
         self.floor_certain.append((msg.data, time.time_ns()))
+
+    def _floor_range(self, msg):
+        self.floor_ranges.append((list(msg.data), time.time_ns()))
 
     def _cycle(self, msg):
         self.cycles.append((cycle_from_msg(msg), time.time_ns()))

@@ -16,7 +16,7 @@
 Benchmark of the online riser height and the floors (issue 13): simulated walks, K not given.
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_riser_height.py
-[--out DIR] [--cases seed,floors,nofile,random,heldout]`` (a script, not a test; about 5-10
+[--out DIR] [--cases seed,floors,nofile,storeys,random,heldout]`` (a script, not a test; about 5-10
 minutes on one core, each random walk about 10 s). Every walk runs through
 ``replay_recording`` with the packaged model and the default parameters (prior K = 0.17 m),
 at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
@@ -37,10 +37,17 @@ at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
   misses;
 - ``file``: the tower walks again with the building file's ``step_height_m``: the height
   must be exact (|error| < 1 mm at every cycle the mode is right);
+- ``storeys`` (not in the default list): towers of 6 floors whose storeys nobody gave,
+  2.8-4.5 m with a ground storey (lobby) of the same height, 4.2 or 5.0 m, no building file,
+  tactical IMU, K 0.17 m: at every level cycle on a floor, whether the floor is right and
+  ``floor_certain``, where it is not certain whether the floors it says the height can be on
+  (``floor_lowest``, ``floor_highest``) hold the true one, and at the level cycles off every
+  floor (landings) whether one is said certain; a wrong floor said to be certain, a range
+  without the true floor, or a landing said to be on a floor, misses;
 - ``seed``: the seed's 640 s walk (``sim.building_walk``: down 36 steps of 0.15 m, 500 s of
   corridors, back up): max |height error| <= 0.15 m, final error 0.
 
-Measured 2026-12-03 (README, "Riser height and floors nobody measured"), after
+Measured 2026-12-03 (doc/riser_height_notebook.md, "With the stairs in place"), after
 ``random_walk`` put each storey's stairs at one place and a sure stride height stopped being
 clipped by its INS length: everything met but held-out random walk 19 on the consumer IMU
 (0.647 m at the one cycle the classifier calls a 4-riser stride level).
@@ -68,6 +75,7 @@ IMUS = ('tactical', 'consumer')
 RISERS_M = (0.14, 0.155, 0.17, 0.19)
 TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
 LONG_ROUTE = (0, 4, 1, 3, 0, 2, 4, 1, 0)                                  # ~10 minutes
+STOREYS_ROUTE = (0, 1, 2, 3, 4, 5, 3, 0)                                  # every floor
 COLUMN = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
 
 
@@ -100,6 +108,7 @@ def replay(walk, the_building=None):
     k = np.searchsorted(strides.stamp_ns, stamp + 200_000_000, side='right') - 1
     return {'height': rows[:, COLUMN['height_m']], 'floor': rows[:, COLUMN['floor']].astype(int),
             'certain': rows[:, COLUMN['floor_certain']].astype(bool),
+            'lowest': rows[:, COLUMN['floor_lowest']], 'highest': rows[:, COLUMN['floor_highest']],
             'k': rows[:, COLUMN['step_height_m']], 'mode': rows[:, COLUMN['mode']].astype(int),
             'true_height': strides.height_m[k], 'true_mode': strides.mode[k],
             'stamp_s': (stamp - stamp[0]) * 1e-9, 'stamp_ns': stamp,
@@ -167,6 +176,39 @@ def case_no_file(failures):
                   f'{len(err):6d} {np.abs(err).max():8.3f} {err[-1]:+7.3f} {limit:5.2f}')
             if np.abs(err).max() > limit:
                 failures.append(f'nofile {imu} tower K {k_m}')
+
+
+def case_unknown_storeys(failures):
+    """Run towers of storeys nobody gave without a building file: a certain floor never wrong."""
+    print('case storeys (no building file; level cycles on a floor: right & certain, '
+          'wrong & certain, wrong & uncertain, right & uncertain, uncertain with a floor '
+          'range, the true floor outside it; level cycles off every floor (landings): all, '
+          'certain)')
+    k_m, seed, total = 0.17, 500, np.zeros(8, dtype=int)
+    for lobby_m in (None, 4.2, 5.0):
+        for storey_m in (2.8, 3.0, 3.3, 3.6, 4.0, 4.5):
+            seed += 1
+            steps = tuple(int(2 * round(h / k_m / 2)) for h in [lobby_m or storey_m]
+                          + [storey_m] * 4)
+            segments = sim.tower_walk(STOREYS_ROUTE, storey_steps=steps, step_height_m=k_m)
+            walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed),
+                                     rate_hz=RATE_HZ, imu='tactical', step_height_m=k_m)
+            out = replay(walk)
+            mask, truth = on_floor_level_cycles(out, sim.tower_floor_elevations_m(steps, k_m))
+            right, certain = out['floor'][mask] == truth[mask], out['certain'][mask]
+            off_floor = (out['true_mode'] == 0) & ~mask
+            ranged = ~certain & np.isfinite(out['lowest'][mask])
+            within = (out['lowest'][mask] <= truth[mask]) & (truth[mask] <= out['highest'][mask])
+            row = np.array([np.sum(right & certain), np.sum(~right & certain),
+                            np.sum(~right & ~certain), np.sum(right & ~certain),
+                            np.sum(ranged), np.sum(ranged & ~within),
+                            np.sum(off_floor), np.sum(out['certain'][off_floor])])
+            total += row
+            print(f'lobby {lobby_m or storey_m:3.1f} m, storeys {storey_m:3.1f} m: '
+                  f'{" ".join(f"{n:4d}" for n in row)}')
+            if row[1] or row[5] or row[7]:
+                failures.append(f'storeys {storey_m} m, lobby {lobby_m or storey_m} m')
+    print(f'all: {" ".join(f"{n:4d}" for n in total)}')
 
 
 def case_random(failures, seeds, label, rate_hz=RATE_HZ, mounting_rpy_deg=MOUNTING_RPY_DEG,
@@ -251,8 +293,8 @@ def main(argv=None) -> int:
     parser.add_argument('--out', default=None, help='directory for riser_convergence.png')
     parser.add_argument('--cases', default='seed,floors,nofile,random,heldout',
                         help='comma-separated subset of seed, floors (includes file), nofile '
-                        '(towers), random (random walks, seeds --seeds), heldout (random walks, '
-                        'seeds --held-out-seeds)')
+                        '(towers), storeys (towers of storeys nobody gave), random (random '
+                        'walks, seeds --seeds), heldout (random walks, seeds --held-out-seeds)')
     parser.add_argument('--seeds', default='11,12,13',
                         help='random_walk seeds the estimator parameters were chosen on')
     parser.add_argument('--held-out-seeds', default='14,15,16,17,18,19,20',
@@ -274,6 +316,8 @@ def main(argv=None) -> int:
         case_floors_and_file(failures)
     if 'nofile' in cases:
         case_no_file(failures)
+    if 'storeys' in cases:
+        case_unknown_storeys(failures)
     if 'random' in cases:
         case_random(failures, [int(v) for v in args.seeds.split(',')], 'random', args.rate_hz,
                     tuple(args.mounting_rpy_deg), tuple(args.tread_range_m))

@@ -75,7 +75,10 @@
 
   function floorText(r) {
     if (r.floor === null || r.floor === undefined) { return 'Floor ?'; }
-    return r.floor_certain ? floorName(r.floor) : 'Floor ?';
+    if (r.floor_certain) { return floorName(r.floor); }
+    const range = r.floor_range;   // the floors the height can be on (storeys unknown)
+    if (!range) { return 'Floor ?'; }
+    return 'Floor ' + range[0] + (range[1] === range[0] ? '' : '\u2013' + range[1]) + '?';
   }
 
   function liveAge(r) {
@@ -261,7 +264,7 @@
         ' <small>(last ' + escapeHtml(floorName(r.floor)) + ')</small>';
       return '<tr data-id="' + escapeHtml(r.id) + '" class="' + rowClass(r) + '">' +
         '<td class="name">' + escapeHtml(r.id) + '</td>' +
-        '<td class="floor' + (floor === 'Floor ?' ? ' uncertain' : '') + '">' +
+        '<td class="floor' + (floor.endsWith('?') ? ' uncertain' : '') + '">' +
         escapeHtml(floor) + last + '</td>' +
         '<td class="mode">' + (MODES[r.mode] || '\u2013') + '</td>' +
         '<td class="age"></td>' +
