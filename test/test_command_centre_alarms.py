@@ -205,6 +205,17 @@ def test_a_floor_range_is_no_floor_unknown_alarm_until_it_is_lost():
     assert alarms_of(incident)['floor_unknown']['severity'] == 'alarm'
 
 
+def test_a_single_floor_in_doubt_is_still_a_floor_unknown_alarm():
+    # 4.49 m down where 5.40 m was walked (lost stair strides): only floor -1 holds 4.49 m,
+    # but no 3 m storey puts it there. A height error looks like that: the alarm stays.
+    incident, clock = make_incident()
+    incident.update_floor(FF1, -1)
+    incident.update_floor_certain(FF1, False)
+    incident.update_floor_range(FF1, [-1, -1])
+    first_seen = stand_still_until(incident, clock, 30.0, watch='floor_unknown')
+    assert first_seen == {'alarm': 30.0}
+
+
 def test_floor_unknown_counts_from_the_last_stair_cycle():
     # A climb of several storeys keeps the floor uncertain for minutes: not an alarm.
     incident, clock = make_incident()
