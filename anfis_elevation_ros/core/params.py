@@ -331,7 +331,9 @@ _DOCS = {
     'elevation.mode_threshold': ('Stair-mode threshold sigma_th of eq. (13); negative: the '
                                  "model's own (chosen in training, in its metadata).", -1.0, 1.0,
                                  _LIVE),
-    'elevation.floor_height_m': ('Storey height H, m.', 2.0, 20.0, _LIVE),
+    'elevation.floor_height_m': ('Storey height H without a building file, m: the guess of the '
+                                 'floor index (certain only where floor_height_min_m and '
+                                 'floor_height_max_m agree).', 2.0, 20.0, _LIVE),
     'elevation.start_floor': ('Floor of the start point (changing it shifts the floor index).',
                               -100, 1000, _LIVE),
     'elevation.start_height_m': ('Height of the start point above its floor reference, m.',
