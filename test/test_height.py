@@ -654,8 +654,8 @@ def test_without_a_building_file_the_floors_a_height_can_be_on():
     assert floors.candidates(12.0, 0.5) == (3, 4)            # 3 of 4 m or 4 of 3 m
     assert floors.place(12.0, 0.5) == (4, False)             # the guess of 3 m, in doubt
     assert floors.place(3.2, 0.5) == (1, True)               # both agree
-    assert floors.place(4.9, 0.5) == (1, False)              # only floor 1 holds it, but
-    assert floors.place(5.5, 0.5) == (2, False)              # 4.9 m is no 3 m storey
+    assert floors.place(4.9, 0.5) == (1, False)              # floor 1 alone, no 3 m storey
+    assert floors.place(5.5, 0.5) == (2, False)              # floor 1 or 2
     assert floors.place(1.5, 0.5) == (1, False)              # between floors: none fits
     assert floors.place(-8.0, 0.5) == (-3, False)            # -2 (of 4 m) or -3
     assert floors.place(-5.8, 0.5) == (-2, True)
