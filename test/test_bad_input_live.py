@@ -29,7 +29,8 @@ import sys
 import time
 
 from anfis_elevation_ros.core.navigator import FootNavigator, NavigatorParams
-from anfis_elevation_ros.core.state import load_state, NavigationState, state_file
+from anfis_elevation_ros.core.state import ElevationState, load_state, NavigationState
+from anfis_elevation_ros.core.state import save_state, state_file
 from anfis_elevation_ros.nodes.classifier_node import ClassifierNode
 from anfis_elevation_ros.nodes.gait_cycle_msg import cycle_to_msg
 from anfis_elevation_ros.nodes.imu_node import ImuNode
@@ -399,6 +400,38 @@ def test_a_restart_resumes_only_when_the_sensor_stamps_continue(
     assert resaved.cycles == run.cycles[-1].index and resaved.walk_id == run.cycles[-1].walk_id
     assert resaved.stamp_ns == cycles[-1].stamp_ns + shift_ns
     assert 0.1 <= resaved.stride_period_s <= 3.0
+
+
+def test_a_saved_floor_is_published_uncertain_and_without_a_floor_range(ros, tmp_path):
+    """
+    Publish a saved state's floor in doubt, with no floor range, until a gait cycle decides.
+
+    The saved height is not yet the tracker's: the range of a fresh tracker (the start floor)
+    would contradict the floor published.
+    """
+    save_state(state_file(str(tmp_path), '/classifier_node'), ElevationState(
+        stamp_ns=1_700_000_000_000_000_000, wall_time_s=time.time(), source_id='/gait_cycle',
+        height_m=6.12, floor=2, cycle_index=40, walk_id=1, step_height_m=0.17,
+        riser_strides=36))
+    classifier = ClassifierNode(parameter_overrides=[
+        Parameter('model_path', value=str(ros['model'])), Parameter('persist_state', value=True),
+        Parameter('state_dir', value=str(tmp_path))])
+    listener = CycleListener()
+    executor = SingleThreadedExecutor()
+    for node in (classifier, listener):
+        executor.add_node(node)
+    try:
+        deadline = time.monotonic() + 10.0
+        while not (listener.floors and listener.floor_certain and listener.floor_ranges) \
+                and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.01)
+        assert (listener.floors[-1][0], listener.floor_certain[-1][0],
+                listener.floor_ranges[-1][0]) == (2, False, [])
+    finally:
+        for node in (classifier, listener):
+            executor.remove_node(node)
+            node.destroy_node()
+        executor.shutdown()
 
 
 def test_malformed_cycle_message_is_skipped(live, clean):

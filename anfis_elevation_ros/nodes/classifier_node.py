@@ -206,7 +206,7 @@ class ClassifierNode(PersistsState, Node):
             self._publish_floor(self._floor, self._tracker.floor_certain)
             self.get_logger().info(f'start floor {self._floor}')
         else:
-            self._publish_floor(state.floor, certain=False)
+            self._publish_floor(state.floor, certain=False, tracked=False)
 
     def _apply_parameters(self, values, changed):
         self._tracker.set_params(elevation_params_from_dict(values))
@@ -331,7 +331,8 @@ class ClassifierNode(PersistsState, Node):
                                f'{estimate.height_m:.2f} m is floor {self._tracker.floor} of the '
                                f'building ({height_m:.2f} m)')
         return replace(estimate, height_m=self._tracker.height_m, floor=self._tracker.floor,
-                       floor_certain=self._tracker.floor_certain)
+                       floor_certain=self._tracker.floor_certain,
+                       floor_range=self._tracker.floor_range)
 
     def _decide_resume(self, cycle):
         """Resume the saved state if this first cycle continues its walk, else start fresh."""
@@ -402,15 +403,19 @@ class ClassifierNode(PersistsState, Node):
             self._floor = floor
             self._publish_floor(floor, self._tracker.floor_certain)
 
-    def _publish_floor(self, floor: int, certain: bool = True):
+    def _publish_floor(self, floor: int, certain: bool = True, tracked: bool = True):
+        """
+        Publish a floor, whether it is certain and the floors the height can be on.
+
+        ``tracked`` False: a floor that is not the tracker's (a saved state's, until the
+        first gait cycle decides), whose height nobody has checked: no floor range.
+        """
         self._floor_pub.publish(Int32(data=int(floor)))
         # The settle rule's certainty (core/floors.py) and an outage's doubt (core/outage.py).
-        certain = bool(certain) and self._doubt.certain
-        self._floor_certain_pub.publish(Bool(data=certain))
-        # The floors the height can be on; none known after an outage (its height is in doubt).
-        floors = (floor, floor) if certain else self._tracker.floor_range
-        known = floors is not None and self._doubt.certain
-        self._floor_range_pub.publish(Int32MultiArray(data=list(floors) if known else []))
+        self._floor_certain_pub.publish(Bool(data=bool(certain) and self._doubt.certain))
+        # The tracker's range ((f, f) while certain); none after an outage (height in doubt).
+        floors = self._tracker.floor_range if tracked and self._doubt.certain else None
+        self._floor_range_pub.publish(Int32MultiArray(data=list(floors or ())))
 
     def diagnostics(self, now_ns: int) -> DiagnosticArray:
         """Build the classifier's diagnostics."""
