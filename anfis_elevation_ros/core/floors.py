@@ -162,9 +162,10 @@ class FloorMap:
         sure = abs(offset_m) <= tolerance_m
         if self.indices:
             return floor, sure
-        lowest, highest = self.candidates(height_m, tolerance_m)
-        if lowest > highest:
+        floors = self.candidates(height_m, tolerance_m)
+        if floors is None:
             return floor, False
+        lowest, highest = floors
         return min(max(floor, lowest), highest), sure and lowest == highest == floor
 
     def elevation_range_m(self, floor: int) -> tuple:
@@ -177,29 +178,25 @@ class FloorMap:
 
             E_f in sign(f - f_0) [n H_min, n H_max + (L - H_max) [lobby crossed]]
 
-        With a building file the floor's own elevation (both ends the same).
         """
-        if self.indices:
-            elevation_m = self.elevations_m[self.indices.index(floor)]
-            return elevation_m, elevation_m
         low_floor, high_floor = sorted((int(floor), self.start_floor))
         storeys = high_floor - low_floor
         h_min, h_max = self.storey_range_m
         lobby_m = max(self.lobby_max_m, h_max) if low_floor <= 0 < high_floor else h_max
-        shortest, tallest = storeys * h_min, storeys * h_max + (lobby_m - h_max) * (storeys > 0)
+        shortest, tallest = storeys * h_min, storeys * h_max + lobby_m - h_max
         return (shortest, tallest) if floor >= self.start_floor else (-tallest, -shortest)
 
-    def candidates(self, height_m: float, tolerance_m: float) -> tuple:
+    def candidates(self, height_m: float, tolerance_m: float) -> Optional[tuple]:
         """
-        Return the floors a height can be on, within the tolerance: (lowest, highest).
+        Return the floors a height can be on, within the tolerance: (lowest, highest), or None.
 
         C(h) = {f : E_f,min - tol <= h <= E_f,max + tol}, an interval of floors; with a
-        building file the floor nearest h alone, if h is within tol of it. Empty (lowest >
-        highest) between two floors' ranges (a landing, a mezzanine).
+        building file the floor nearest h alone, if h is within tol of it. None between two
+        floors' ranges (a landing, a mezzanine).
         """
-        nearest, offset_m = self.nearest(height_m)
         if self.indices:
-            return (nearest, nearest) if abs(offset_m) <= tolerance_m else (nearest + 1, nearest)
+            floor, offset_m = self.nearest(height_m)
+            return (floor, floor) if abs(offset_m) <= tolerance_m else None
         h_min, h_max = self.storey_range_m
         side = 1 if height_m >= 0.0 else -1
         inside = []
@@ -209,7 +206,7 @@ class FloorMap:
             low_m, high_m = self.elevation_range_m(floor)
             if low_m - tolerance_m <= height_m <= high_m + tolerance_m:
                 inside.append(floor)
-        return (min(inside), max(inside)) if inside else (nearest + 1, nearest)
+        return (min(inside), max(inside)) if inside else None
 
 
 def floor_map_for(building, start_floor: int, storey_m: float,
@@ -347,5 +344,4 @@ class FloorSettler:
             return self.floor, self.floor
         if self.level_cycles < LEVEL_STRETCH_CYCLES:
             return None
-        lowest, highest = self.floor_map.candidates(self.height_m, self.tolerance_m)
-        return (lowest, highest) if lowest <= highest else None
+        return self.floor_map.candidates(self.height_m, self.tolerance_m)

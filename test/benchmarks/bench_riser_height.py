@@ -79,11 +79,11 @@ STOREYS_ROUTE = (0, 1, 2, 3, 4, 5, 3, 0)                                  # ever
 COLUMN = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
 
 
-def storey_steps(k_m: float, floors: int) -> tuple:
-    """Return the steps per storey: storeys of about 3 m, a lobby of about 4.2 m (even counts)."""
+def storey_steps(k_m: float, floors: int, lobby_m: float = 4.2, storey_m: float = 3.0) -> tuple:
+    """Return the steps per storey: a lobby of about ``lobby_m``, storeys of about ``storey_m``."""
     def even(height_m):
         return int(2 * round(height_m / k_m / 2))
-    return (even(4.2),) + (even(3.0),) * (floors - 2)
+    return (even(lobby_m),) + (even(storey_m),) * (floors - 2)
 
 
 def building(elevations_m, k_m=None) -> object:
@@ -201,7 +201,7 @@ def case_unknown_storeys(failures):
 
 def unknown_storeys_tower(lobby_m, storey_m, k_m, imu, seed) -> np.ndarray:
     """Return a tower's counts of ``case_unknown_storeys`` (the columns it prints)."""
-    steps = tuple(int(2 * round(h / k_m / 2)) for h in [lobby_m] + [storey_m] * 4)
+    steps = storey_steps(k_m, 6, lobby_m, storey_m)
     segments = sim.tower_walk(STOREYS_ROUTE, storey_steps=steps, step_height_m=k_m)
     walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed), rate_hz=RATE_HZ,
                              imu=imu, step_height_m=k_m)
