@@ -20,13 +20,27 @@ taller lobby), else from one storey height H and the start floor. Heights are re
 start floor's walking surface (0 at the first stance, plus ``start_height_m``).
 
 Without a building file nobody knows the storeys, so H is only a guess: a height of 12 m is
-floor 4 of 3 m storeys and floor 3 of 4 m ones. A floor is then certain only where every
-building with storeys in a plausible range [H_min, H_max] (and a ground storey, the lobby, up
-to L_max) puts the same floor (:meth:`FloorMap.candidates`), and the height is also within
-the tolerance of the guess's elevation (:meth:`FloorMap.place`), after a level stretch (a
-landing can be at a floor's height); elsewhere the floor is the guess of H, not certain, and
-:attr:`FloorSettler.floor_range` says which floors the height can be on. With the defaults
-(2.8-4.5 m, lobby 6 m, H 3 m) the start floor and the floors next to it can be certain.
+floor 4 of 3 m storeys and floor 3 of 4 m ones. With no floor walked to go by (below), a
+floor is then certain only where every building with storeys in a plausible range
+[H_min, H_max] (and a ground storey, the lobby, up to L_max) puts the same floor
+(:meth:`FloorMap.candidates`), and the height is also within the tolerance of the guess's
+elevation (:meth:`FloorMap.place`), after a level stretch (a landing can be at a floor's
+height); elsewhere the floor is the guess of H, not certain, and
+:attr:`FloorSettler.floor_range` says which floors the height can be on.
+
+Floors walked narrow the rest. The start floor, and every floor made certain on a level
+stretch, is an anchor: each storey between it and another floor is again H_min..H_max (the
+lobby up to L_max), so the floors a height can be on are also those its height above the
+anchor allows, and a floor is certain where the anchors leave it alone
+(:meth:`FloorSettler.candidates`). One storey from an anchor is 2.3-5.0 m and two are 5.1 m
+or more (tolerance 0.5 m), so the floor next to an anchor is certain whatever the storeys.
+A landing can be a storey's height above a floor walked too (two thirds up a storey of three
+flights), so a floor is certain by the anchors only once its level stretch has gone more
+than :data:`LANDING_REACH_M` from where the stairs ended.
+The guess of H stood guard against a height error; the errors that reach half a storey are
+climbs nobody saw, so the anchors are forgotten where cycles were lost next to stairs
+(:meth:`FloorSettler.forget_anchors`), and until a floor is certain again the guess of H
+stands guard as before.
 
 Settle rule (our choice; the method rounds h / H at every cycle, which flickers on landings and
 mid-flight): the floor changes only at a level cycle whose height lies within a tolerance of a
@@ -44,7 +58,7 @@ Public API: :class:`FloorMap`, :func:`floor_map_for`, :func:`settled_floor`,
 :class:`FloorSettler`, :func:`floor_index`, :func:`round_half_away`.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 from typing import Optional
 
@@ -54,6 +68,11 @@ MODE_LEVEL = 0
 
 LEVEL_STRETCH_CYCLES = 3
 """Consecutive level cycles that make a level stretch (a landing turn takes 1-2)."""
+
+LANDING_REACH_M = 3.0
+"""How far a level stretch may go from the stairs and still be on a landing, m (a landing is
+about a stair's width deep, 1-2.5 m): only a stretch that went further is made certain by the
+floors walked (and becomes one)."""
 
 
 def round_half_away(value):
@@ -167,6 +186,10 @@ class FloorMap:
             return floor, False
         lowest, highest = floors
         return min(max(floor, lowest), highest), sure and lowest == highest == floor
+
+    def seen_from(self, floor: int) -> 'FloorMap':
+        """Return the same storeys seen from another floor (heights above that floor's)."""
+        return replace(self, start_floor=int(floor))
 
     def elevation_range_m(self, floor: int) -> tuple:
         """
@@ -302,32 +325,105 @@ class FloorSettler:
             raise ValueError(f'floor tolerance must be a number > 0 m, got {tolerance_m!r}')
         self.tolerance_m = float(tolerance_m)
         self.level_cycles = 0
+        self.reach_m = 0.0
+        self._last_xy = self._stretch_xy = None
         self.rebase(floor_map, height_m)
 
     def rebase(self, floor_map: FloorMap, height_m: float, certain: Optional[bool] = None):
-        """Take new floors (a parameter change): the floor nearest the height."""
+        """Take new floors (a parameter change): the floor nearest the height, its anchor."""
         self.floor_map = floor_map
         self.height_m = float(height_m)
         self.floor, sure = floor_map.place(height_m, self.tolerance_m)
         self.certain = sure if certain is None else (certain and sure)
+        self.anchors = {}
+        self._anchor()
 
-    def update(self, height_m: float, mode: Optional[int]) -> int:
+    def _anchor(self):
+        """Take a certain floor for an anchor (storeys unknown): a floor walked at its height."""
+        if self.certain and not self.floor_map.storeys_known:
+            self.anchors[self.floor] = self.height_m
+
+    def forget_anchors(self):
+        """Forget the floors walked: a climb may have gone unseen (lost cycles by the stairs)."""
+        self.anchors = {}
+
+    def candidates(self, height_m: float) -> Optional[tuple]:
+        """
+        Return the floors a height can be on, given the floors walked: (lowest, highest) or None.
+
+        I(h) = C(h) & C_a1(h - h_a1) & C_a2(h - h_a2) & ...
+
+        C (:meth:`FloorMap.candidates`) from the start floor, C_a the same storeys seen from an
+        anchor a, a floor made certain on a level stretch at height h_a, since the anchors
+        were last forgotten (:meth:`FloorMap.seen_from`). None when empty: a height off every
+        floor, or one the anchors disagree on (a height error).
+        """
+        floors = self.floor_map.candidates(height_m, self.tolerance_m)
+        for floor, anchor_m in self.anchors.items():
+            seen = self.floor_map.seen_from(floor).candidates(height_m - anchor_m,
+                                                              self.tolerance_m)
+            if floors is None or seen is None:
+                return None
+            floors = (max(floors[0], seen[0]), min(floors[1], seen[1]))
+            if floors[0] > floors[1]:
+                return None
+        return floors
+
+    def _place(self, height_m: float) -> tuple:
+        """
+        Return the floor a height is taken to be on and whether it is sure: (f, sure).
+
+        Without anchors :meth:`FloorMap.place`; with them the same floor moved into I(h)
+        (:meth:`candidates`), sure when I(h) is one floor and either the guess of H agrees
+        (:meth:`FloorMap.place`) or the level stretch has left the stairs
+        (:data:`LANDING_REACH_M`): the floors walked stand for the guess.
+        """
+        floor, sure = self.floor_map.place(height_m, self.tolerance_m)
+        if not self.anchors:
+            return floor, sure
+        floors = self.candidates(height_m)
+        if floors is None:
+            return floor, False
+        lowest, highest = floors
+        walked_off = self.reach_m > LANDING_REACH_M
+        return min(max(floor, lowest), highest), lowest == highest and (sure or walked_off)
+
+    def _walk(self, xy: Optional[tuple], level: bool):
+        """
+        Follow how far the level stretch has gone from where the stairs ended, m.
+
+        reach = max over the stretch's cycles of |p_i - p_0|, p_0 the position at its start.
+        """
+        if not level:
+            self._stretch_xy, self.reach_m = None, 0.0
+        elif xy is not None:
+            if self._stretch_xy is None:
+                self._stretch_xy = self._last_xy if self._last_xy is not None else xy
+            self.reach_m = max(self.reach_m, math.dist(xy, self._stretch_xy))
+        if xy is not None:
+            self._last_xy = xy
+
+    def update(self, height_m: float, mode: Optional[int], xy: Optional[tuple] = None) -> int:
         """
         Apply the settle rule to a cycle's height and mode; return the floor.
 
         ``mode`` None is an invalid (unclassified) cycle: it extends a level stretch already
-        begun (a few lost samples on a corridor) but starts none (not after stairs).
+        begun (a few lost samples on a corridor) but starts none (not after stairs). ``xy``
+        is the cycle's end position, m (None: not known, the stretch is not followed).
         """
         if mode is None:
             if not self.level_cycles:
+                self._walk(xy, False)
                 return self.floor
             mode = MODE_LEVEL
         self.level_cycles = self.level_cycles + 1 if mode == MODE_LEVEL else 0
+        self._walk(xy, mode == MODE_LEVEL)
         self.height_m = float(height_m)
-        place, sure = self.floor_map.place(height_m, self.tolerance_m)
+        place, sure = self._place(height_m)
         settle_cycles = 1 if self.floor_map.storeys_known else LEVEL_STRETCH_CYCLES
         self.floor, self.certain = settled_floor(self.floor, self.level_cycles, place, sure,
                                                  settle_cycles)
+        self._anchor()
         return self.floor
 
     @property
@@ -336,12 +432,12 @@ class FloorSettler:
         Return the floors the height can be on, (lowest, highest), or None when not known.
 
         (floor, floor) while certain. On a level stretch (:data:`LEVEL_STRETCH_CYCLES`) that
-        is not: the candidates C(h) (:meth:`FloorMap.candidates`; without a building file a
-        height several floors could have). None on the stairs, on a landing turn, and where
-        no floor fits (a mezzanine, a height off every floor of the file).
+        is not: the candidates I(h) (:meth:`candidates`; without a building file a height
+        several floors could have). None on the stairs, on a landing turn, and where no floor
+        fits (a mezzanine, a height off every floor of the file, anchors that disagree).
         """
         if self.certain:
             return self.floor, self.floor
         if self.level_cycles < LEVEL_STRETCH_CYCLES:
             return None
-        return self.floor_map.candidates(self.height_m, self.tolerance_m)
+        return self.candidates(self.height_m)

@@ -120,7 +120,8 @@ class ElevationParams:
     floor_height_m : storey height H, m, >= 2.0; 3.0 m is a common storey. Without a building
         file only a guess: the floor is certain only where every storey height within
         [floor_height_min_m, floor_height_max_m] (and a ground storey, the lobby, up to
-        ``lobby_height_max_m``) gives the same floor (``core/floors.py``).
+        ``lobby_height_max_m``), counted from the start and the floors walked, gives the same
+        floor (``core/floors.py``).
     floor_height_min_m, floor_height_max_m : the storeys' plausible heights without a building
         file, m (the issue's 2.8-4.5 m); both equal to ``floor_height_m`` and
         ``lobby_height_max_m`` 0: storeys known to be H.
@@ -426,7 +427,8 @@ class ElevationTracker:
         if not valid:
             self._lost += 1
             self._last_level = None
-            self.floors.update(self.height_m, None)
+            known = math.isfinite(x_m) and math.isfinite(y_m)
+            self.floors.update(self.height_m, None, (x_m, y_m) if known else None)
             return self._estimate(stamp_ns, MODE_LEVEL, x_m, y_m, float('nan'))
         if not (math.isfinite(x_m) and math.isfinite(y_m)):
             raise InputError(f'cycle position is not finite: x_m={x_m}, y_m={y_m}; cycle skipped')
@@ -470,7 +472,7 @@ class ElevationTracker:
             self._add_stair_stride(dh_m, length_m, (x_m, y_m))
             self._last_level = None
         self._last_mode = mode
-        self.floors.update(self.height_m, mode)
+        self.floors.update(self.height_m, mode, (x_m, y_m))
         if self.floors.certain and self.building is not None:
             self._snap_to_floor()
         return self._estimate(stamp_ns, mode, x_m, y_m, output, bridged)
@@ -545,6 +547,8 @@ class ElevationTracker:
             self.bridged_cycles += lost
         else:
             self.unbridged_cycles += lost
+        if self._last_mode != MODE_LEVEL or mode != MODE_LEVEL:
+            self.floors.forget_anchors()    # the lost cycles may have climbed, bridged or not
         return bridged
 
     def _end_flight(self, mode: int):

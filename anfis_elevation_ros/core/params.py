@@ -340,9 +340,10 @@ _DOCS = {
                                  -1000.0, 1000.0, _READ_ONLY),
     'elevation.floor_height_min_m': ('Lowest plausible storey without a building file, m: the '
                                      'floor is certain only where every storey height from '
-                                     'floor_height_min_m to floor_height_max_m gives the same '
-                                     'floor (floor_height_m is the guess in between).', 2.0,
-                                     20.0, _LIVE),
+                                     'floor_height_min_m to floor_height_max_m, counted from '
+                                     'the start and the floors walked, gives the same floor '
+                                     '(floor_height_m is the guess in between).', 2.0, 20.0,
+                                     _LIVE),
     'elevation.floor_height_max_m': ('Highest plausible storey without a building file, m.',
                                      2.0, 20.0, _LIVE),
     'elevation.lobby_height_max_m': ('How tall the ground storey (floor 0 to 1) can be without '

@@ -359,8 +359,10 @@ class ClassifierNode(PersistsState, Node):
         self._tracker.risers.resume(state.step_height_m, state.riser_strides)
         self._tracker.resume_flight(state.last_mode, state.last_abs_dh_m)
         # The saved floor, not the one nearest a height saved mid-flight; certain again when
-        # the settle rule sees the foot on it.
+        # the settle rule sees the foot on it. No floor walked before stands as an anchor: a
+        # climb may have gone unseen in the outage.
         self._tracker.floors.floor, self._tracker.floors.certain = state.floor, False
+        self._tracker.floors.forget_anchors()
         self._doubt = FloorDoubt(state.floor_doubt, state.floor_doubt_reach_m)
         self._last_stamp_ns, self._last_index = state.stamp_ns, state.cycle_index
         self._resumed = True
