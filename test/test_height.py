@@ -714,6 +714,12 @@ def test_the_floors_walked_stand_for_the_storey_height_until_a_climb_goes_unseen
     last = _climb_two_storeys_of_4_m(lost, lose=(1, 8))[-1]
     assert last.height_m == pytest.approx(lost.true_height_m) == pytest.approx(8.0)
     assert (last.floor_certain, last.floor_range) == (False, (2, 3))
+    # Lost in the first storey: at 4.0 m only floor 1 fits, but no floor walked says so and
+    # the guess of 3 m does not either; lost stair strides give such heights: no range.
+    lost = _walker(params)
+    first = [e for e in _climb_two_storeys_of_4_m(lost, lose=(0, 8))
+             if e.height_m == pytest.approx(4.0)][-1]
+    assert (first.floor, first.floor_certain, first.floor_range) == (1, False, None)
 
 
 def test_a_landing_a_storeys_height_above_a_floor_walked_is_no_floor():

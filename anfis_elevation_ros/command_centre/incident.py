@@ -135,9 +135,9 @@ class Incident:
         """
         Take one ``floor_range`` message: [lowest, highest] floor the height can be on, or [].
 
-        A floor in doubt with a range of several floors (a height several floors could have,
-        no building file) is shown as that range and raises no ``floor_unknown`` alarm: the
-        tracker is not lost, the storeys are unknown (:func:`_storeys_unknown`).
+        A floor in doubt with a range (a height several floors could have, no building file;
+        or a floor the floors walked give, near the stairs) is shown as that range and raises
+        no ``floor_unknown`` alarm: the tracker is not lost (:func:`_range_known`).
         """
         with self._lock:
             if not isinstance(floors, (list, tuple)) or len(floors) not in (0, 2) \
@@ -368,7 +368,7 @@ class Incident:
             if lost else None,
             al.DIAGNOSTICS_ERROR: _diagnostics_cause(r.diagnostics),
             al.FLOOR_UNKNOWN: (al.ALARM, f'floor uncertain for {now - r.uncertain_since:.0f} s')
-            if r.uncertain_since is not None and not _storeys_unknown(r.floor_range)
+            if r.uncertain_since is not None and not _range_known(r.floor_range)
             and now - r.uncertain_since >= p.floor_unknown_s else None,
         }
         level = None if lost else al.no_motion_level(now - r.last_motion, p)
@@ -438,15 +438,16 @@ class Incident:
         return [floors[k] for k in sorted(floors, reverse=True)]
 
 
-def _storeys_unknown(floors) -> bool:
+def _range_known(floors) -> bool:
     """
-    Return whether a floor range says the floor is in doubt for want of the storeys alone.
+    Return whether a floor range says where a floor in doubt is: the tracker is not lost.
 
-    Two floors or more: the height fits each of them. A single floor in doubt is a height
-    that only one floor can hold but no 3 m storey puts there, which a height error (lost
-    stair strides) gives too: that is still the ``floor_unknown`` alarm.
+    The classifier publishes a range only where it knows one: the floors a height can be on
+    without a building file (several, the storeys unknown; or one, by the floors walked, on a
+    level stretch still near the stairs). After a climb nobody saw it publishes none (``[]``),
+    and that is the ``floor_unknown`` alarm.
     """
-    return floors is not None and floors[1] > floors[0]
+    return floors is not None
 
 
 def _floor_text(state: dict) -> str:

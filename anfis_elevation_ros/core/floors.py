@@ -433,11 +433,18 @@ class FloorSettler:
 
         (floor, floor) while certain. On a level stretch (:data:`LEVEL_STRETCH_CYCLES`) that
         is not: the candidates I(h) (:meth:`candidates`; without a building file a height
-        several floors could have). None on the stairs, on a landing turn, and where no floor
-        fits (a mezzanine, a height off every floor of the file, anchors that disagree).
+        several floors could have, or one floor by the floors walked while the stretch is
+        still near the stairs). None on the stairs, on a landing turn, and where no floor
+        fits (a mezzanine, a height off every floor of the file, anchors that disagree); and
+        for one floor when no floor walked says so (no anchors: after lost cycles by the
+        stairs the height may be wrong, and one floor that the guess of H does not confirm is
+        what lost stair strides give, so no floor is offered).
         """
         if self.certain:
             return self.floor, self.floor
         if self.level_cycles < LEVEL_STRETCH_CYCLES:
             return None
-        return self.candidates(self.height_m)
+        floors = self.candidates(self.height_m)
+        if floors is not None and floors[0] == floors[1] and not self.anchors:
+            return None
+        return floors
