@@ -16,8 +16,8 @@
 Benchmark of the online riser height and the floors (issue 13): simulated walks, K not given.
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_riser_height.py
-[--out DIR] [--cases seed,floors,nofile,storeys,random,heldout]`` (a script, not a test; about 5-10
-minutes on one core, each random walk about 10 s). Every walk runs through
+[--out DIR] [--cases seed,floors,nofile,storeys,drawn,random,heldout]`` (a script, not a
+test; about 5-10 minutes on one core, each random walk about 10 s). Every walk runs through
 ``replay_recording`` with the packaged model and the default parameters (prior K = 0.17 m),
 at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
 
@@ -44,6 +44,10 @@ at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
   says the height can be on (``floor_lowest``, ``floor_highest``) hold the true one, and at
   the level cycles off every floor (landings) whether one is said certain; a wrong floor said
   to be certain, a range without the true floor, or a landing said to be on a floor, misses;
+- ``drawn`` (not in the default list): the same on ``--towers`` towers per seed of
+  ``--draw-seeds``, each drawn at random: a route that skips floors (``DRAWN_ROUTES``), storeys
+  of 2.8-4.5 m, a lobby of the same height (probability 0.4) or up to 5.8 m, K 0.14-0.19 m,
+  1-3 steps a stride;
 - ``seed``: the seed's 640 s walk (``sim.building_walk``: down 36 steps of 0.15 m, 500 s of
   corridors, back up): max |height error| <= 0.15 m, final error 0.
 
@@ -76,6 +80,8 @@ RISERS_M = (0.14, 0.155, 0.17, 0.19)
 TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
 LONG_ROUTE = (0, 4, 1, 3, 0, 2, 4, 1, 0)                                  # ~10 minutes
 STOREYS_ROUTE = (0, 1, 2, 3, 4, 5, 3, 0)                                  # every floor
+DRAWN_ROUTES = ((0, 4, 1, 3, 0), (0, 5, 2, 4, 0), LONG_ROUTE, (0, 2, 5, 3, 1, 0),
+                (0, 1, 3, 5, 4, 2, 0))                                  # floors skipped
 COLUMN = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
 
 
@@ -199,10 +205,38 @@ def case_unknown_storeys(failures):
         print(f'{imu:9s} all: {" ".join(f"{n:4d}" for n in total)}')
 
 
-def unknown_storeys_tower(lobby_m, storey_m, k_m, imu, seed) -> np.ndarray:
+def case_drawn_towers(failures, draw_seeds, towers):
+    """Run towers drawn at random without a building file: a certain floor never wrong."""
+    print('case drawn (towers drawn at random, no building file; the columns of case storeys)')
+    total = {imu: np.zeros(8, dtype=int) for imu in IMUS}
+    for draw_seed in draw_seeds:
+        rng = np.random.default_rng(draw_seed)
+        for k in range(towers):
+            route = DRAWN_ROUTES[rng.integers(len(DRAWN_ROUTES))]
+            storey_m = float(rng.uniform(2.8, 4.5))
+            lobby_m = storey_m if rng.random() < 0.4 else float(rng.uniform(storey_m, 5.8))
+            k_m = float(rng.uniform(0.14, 0.19))
+            per_stride = int(rng.choice([1, 2, 2, 3]))
+            walk_seed = int(rng.integers(1 << 30))
+            for imu in IMUS:
+                row = unknown_storeys_tower(lobby_m, storey_m, k_m, imu, walk_seed, route,
+                                            per_stride)
+                total[imu] += row
+                print(f'{draw_seed}/{k:<3d} {imu:9s} route {"-".join(map(str, route)):17s} '
+                      f'storeys {storey_m:.2f} m, lobby {lobby_m:.2f} m, K {k_m:.3f} m, '
+                      f'{per_stride} a stride: {" ".join(f"{n:4d}" for n in row)}')
+                if row[1] or row[5] or row[7]:
+                    failures.append(f'drawn tower {draw_seed}/{k} {imu}')
+    for imu in IMUS:
+        print(f'{imu:9s} all: {" ".join(f"{n:5d}" for n in total[imu])}')
+
+
+def unknown_storeys_tower(lobby_m, storey_m, k_m, imu, seed, route=STOREYS_ROUTE,
+                          steps_per_stride=2) -> np.ndarray:
     """Return a tower's counts of ``case_unknown_storeys`` (the columns it prints)."""
     steps = storey_steps(k_m, 6, lobby_m, storey_m)
-    segments = sim.tower_walk(STOREYS_ROUTE, storey_steps=steps, step_height_m=k_m)
+    segments = sim.tower_walk(route, storey_steps=steps, step_height_m=k_m,
+                              steps_per_stride=steps_per_stride)
     walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed), rate_hz=RATE_HZ,
                              imu=imu, step_height_m=k_m)
     out = replay(walk)
@@ -299,12 +333,17 @@ def main(argv=None) -> int:
     parser.add_argument('--out', default=None, help='directory for riser_convergence.png')
     parser.add_argument('--cases', default='seed,floors,nofile,random,heldout',
                         help='comma-separated subset of seed, floors (includes file), nofile '
-                        '(towers), storeys (towers of storeys nobody gave), random (random '
+                        '(towers), storeys (towers of storeys nobody gave), drawn (towers '
+                        'drawn at random, --draw-seeds), random (random '
                         'walks, seeds --seeds), heldout (random walks, seeds --held-out-seeds)')
     parser.add_argument('--seeds', default='11,12,13',
                         help='random_walk seeds the estimator parameters were chosen on')
     parser.add_argument('--held-out-seeds', default='14,15,16,17,18,19,20',
                         help='random_walk seeds not used to choose anything')
+    parser.add_argument('--draw-seeds', default='7,11',
+                        help='seeds of the towers drawn at random (case drawn)')
+    parser.add_argument('--towers', type=int, default=40,
+                        help='towers drawn per seed of --draw-seeds (case drawn)')
     parser.add_argument('--rate-hz', type=float, default=RATE_HZ,
                         help='IMU sample rate of the random walks (random, heldout), Hz')
     parser.add_argument('--mounting-rpy-deg', type=float, nargs=3, default=MOUNTING_RPY_DEG,
@@ -324,6 +363,8 @@ def main(argv=None) -> int:
         case_no_file(failures)
     if 'storeys' in cases:
         case_unknown_storeys(failures)
+    if 'drawn' in cases:
+        case_drawn_towers(failures, [int(v) for v in args.draw_seeds.split(',')], args.towers)
     if 'random' in cases:
         case_random(failures, [int(v) for v in args.seeds.split(',')], 'random', args.rate_hz,
                     tuple(args.mounting_rpy_deg), tuple(args.tread_range_m))
