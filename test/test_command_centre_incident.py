@@ -85,6 +85,26 @@ def test_floor_not_in_the_building_is_listed_and_without_building_the_seen_floor
     assert incident.snapshot()['building'] is None
 
 
+def test_a_responder_in_doubt_may_be_on_every_floor_of_its_range():
+    """Floor 3 or 4 (storeys unknown): counted on 4, possible on 3, until the floor is sure."""
+    incident = Incident(clock=FakeClock())
+    feed(incident, '/ff1', 4, certain=False)
+    incident.update_floor_range('/ff1', [3, 4])
+    feed(incident, '/ff2', 2)
+    incident.update_floor_range('/ff2', [2, 2])
+
+    def counts():
+        return [(f['index'], f['responders'], f['uncertain'], f['possible'])
+                for f in incident.snapshot()['floors']]
+
+    assert counts() == [(4, 1, 1, 0), (3, 0, 0, 1), (2, 1, 0, 0)]
+    incident.update_floor_range('/ff1', [-50, 50])      # says nothing about any one floor
+    assert counts() == [(4, 1, 1, 0), (2, 1, 0, 0)]
+    incident.update_floor_range('/ff1', [3, 4])
+    incident.update_floor_certain('/ff1', True)
+    assert counts() == [(4, 1, 0, 0), (2, 1, 0, 0)]
+
+
 def test_roster_sorted_by_alarm_priority():
     clock = FakeClock()
     incident = Incident(clock=clock)

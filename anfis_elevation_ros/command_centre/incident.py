@@ -48,6 +48,7 @@ TRACK_POINTS = 600          # 300 m of breadcrumbs at TRACK_SPACING_M
 TRACK_SPACING_M = 0.5
 MAX_DIAGNOSTICS = 16        # statuses per responder (one per node; more is a misconfiguration)
 MAX_TEXT = 200
+MAX_POSSIBLE_FLOORS = 10    # a range wider than this says nothing about any one floor
 _NAMESPACE = re.compile(r'^(/[A-Za-z][A-Za-z0-9_]*)+$')
 
 
@@ -417,17 +418,23 @@ class Incident:
         self._changed.notify_all()
 
     def _floors(self) -> list:
-        """Floors of the building (or seen) with responder counts and active alarms."""
+        """
+        Floors of the building (or seen) with responder counts and active alarms.
+
+        A responder counts on its floor; one whose floor is in doubt with a range of floors
+        (no building file) also counts as ``possible`` on the range's other floors, so that a
+        floor's button tells who may be there.
+        """
         floors = {}
         if self._building is not None:
             for f in self._building.floors:
                 floors[f.index] = {'index': f.index, 'name': f.name,
                                    'elevation_m': f.elevation_m}
         for r in self._responders.values():
-            if r.floor is not None and r.floor not in floors:
-                floors[r.floor] = {'index': r.floor, 'name': '', 'elevation_m': None}
+            for index in ([] if r.floor is None else [r.floor]) + _possible_floors(r):
+                floors.setdefault(index, {'index': index, 'name': '', 'elevation_m': None})
         for f in floors.values():
-            f.update(responders=0, uncertain=0, alarms=0)
+            f.update(responders=0, uncertain=0, possible=0, alarms=0)
         for r in self._responders.values():
             if r.floor is None:
                 continue
@@ -435,7 +442,19 @@ class Incident:
             f['responders'] += 1
             f['uncertain'] += not r.floor_certain
             f['alarms'] += sum(a.severity == al.ALARM for a in r.alarms.values())
+            for index in _possible_floors(r):
+                floors[index]['possible'] += 1
         return [floors[k] for k in sorted(floors, reverse=True)]
+
+
+def _possible_floors(r: Responder) -> list:
+    """Return the floors a responder in doubt may be on besides its floor (its range's)."""
+    if r.floor is None or r.floor_certain or r.floor_range is None:
+        return []
+    lowest, highest = r.floor_range
+    if highest - lowest >= MAX_POSSIBLE_FLOORS:
+        return []
+    return [f for f in range(lowest, highest + 1) if f != r.floor]
 
 
 def _range_known(floors) -> bool:

@@ -316,10 +316,13 @@
       const selected = f.index === selectedFloor ? ' selected' : '';
       const badge = f.alarms ? '<span class="badge" title="alarms">' + f.alarms + '\u26a0</span>' : '';
       const uncertain = f.uncertain ? ' (' + f.uncertain + ' uncertain)' : '';
+      // Responders whose floor is in doubt and may be this one (their floor range).
+      const possible = f.possible ? '<span class="possible">+' + f.possible + '?</span>' : '';
+      const maybe = f.possible ? ', ' + f.possible + ' more may be here' : '';
       return '<button type="button" role="tab" class="floor' + selected + '" data-floor="' +
-        f.index + '" title="' + f.responders + ' responders' + uncertain + '">' +
+        f.index + '" title="' + f.responders + ' responders' + uncertain + maybe + '">' +
         escapeHtml(f.name || 'Floor ' + f.index) + '<span class="count">' + f.responders +
-        '</span>' + badge + '</button>';
+        '</span>' + possible + badge + '</button>';
     });
     const floorless = Array.from(state.responders.values())
       .filter(function (r) { return r.floor === null; }).length;
