@@ -41,6 +41,10 @@ default training options), scored with sigma_th chosen inside the training folds
 - ``gate_loso``: leave-one-subject-out of the used cycles, gate off and on (every simulated run
   in every training set, sigma_th 0.45: a quick check, not the ``train`` folds): accuracy of
   the cycles both detectors cut (start and end within 0.2 s) and of those only one cuts.
+- ``pipeline``: the forest out of fold in the ``train`` folds (the shipped settings, not
+  nested), each held-out HuGaDB foot replayed through the whole pipeline (``replay``): the
+  classifier's mode against the mode after the stride's geometry check
+  (``height_checked_mode``, which uses the INS stride's length), and what the check changed.
 - ``decision``: the forest's out-of-fold class probabilities in the ``train`` folds (simulated
   seeds 1-40 + HuGaDB, then HuGaDB alone), HuGaDB accuracy and recall per mode when the mode is
   the largest probability and when it is eq. (13) on P(up) - P(down) at several sigma_th.
@@ -58,12 +62,13 @@ from anfis_elevation_ros.core.forest import majority_vote_output
 from anfis_elevation_ros.core.height import stair_mode
 from anfis_elevation_ros.core.input_gate import InputGate
 from anfis_elevation_ros.core.navigator import FootNavigator
+from anfis_elevation_ros.core.params import load_pipeline_params
 from anfis_elevation_ros.tools import labels as lab
 from anfis_elevation_ros.tools.cross_validation import assign_folds, cross_validate, fit_model
 from anfis_elevation_ros.tools.cross_validation import nested_cv, stack, TrainOptions
 from anfis_elevation_ros.tools.datasets import load_hugadb, shared_data_dir, STANDARD_GRAVITY_MPS2
 from anfis_elevation_ros.tools.metrics import confusion_matrix
-from anfis_elevation_ros.tools.replay import navigated_samples
+from anfis_elevation_ros.tools.replay import CYCLE_COLUMNS, navigated_samples, replay_recording
 from anfis_elevation_ros.tools.training_data import collect, DEFAULT_MIN_STRIDE_S, hugadb_specs
 from anfis_elevation_ros.tools.training_data import LabelRules, Progress
 from anfis_elevation_ros.tools.training_recordings import default_cache_dir, HugadbSpec, navigated
@@ -437,6 +442,58 @@ def print_decision(args):
                   f'{"/".join(f"{r:.3f}" for r in recall)}  {matrix.tolist()}')
 
 
+def print_pipeline(args):
+    """Print the forest's mode and the whole pipeline's, out of fold, on the HuGaDB cycles."""
+    rules, options = LabelRules(), TrainOptions(backend='forest')
+    specs = [sim_spec(seed) for seed in range(1, 41)] + hugadb_specs(args.hugadb)
+    every = collect(specs, Pipeline(), rules, args.cache_dir, args.jobs, Progress(args.quiet))
+    keep = [i for i, s in enumerate(every) if len(s.labels)]
+    sets = [every[i] for i in keep]
+    folds, _ = assign_folds(sets, 'subject', 0, 0)
+    features, labels, owner = stack(sets)
+    defaults = load_pipeline_params()
+    pipeline = dataclasses.replace(defaults, elevation=dataclasses.replace(
+        defaults.elevation, mode_threshold=0.0))            # the vote, as the shipped forest
+    column = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
+    label, classified, checked = [], [], []
+    for k in range(int(folds.max()) + 1):
+        held_out = [keep[i] for i in range(len(sets))
+                    if folds[i] == k and sets[i].source == 'hugadb']
+        if not held_out:
+            continue
+        model = fit_model(features[folds[owner] != k], labels[folds[owner] != k], options)
+        for i in held_out:
+            nav = navigated(specs[i], Pipeline(), args.cache_dir)[0]
+            modes, labelled = lab.majority_labels(nav.start_ns, nav.stamp_ns,
+                                                  nav.truth_stamp_ns, nav.truth_label,
+                                                  rules.min_majority)
+            non_stride = lab.non_stride_cycles(nav.start_ns, nav.stamp_ns, rules.min_stride_s)
+            used = nav.valid & (labelled | non_stride)
+            recording, _ = load_hugadb(specs[i].path, specs[i].foot,
+                                       gyro_range_dps=specs[i].gyro_range_dps)
+            rows = np.array([[float(v) for v in row] for row in
+                             replay_recording(recording, pipeline, model).cycles])
+            label.append(np.where(non_stride, 0, modes)[used])
+            classified.append(stair_mode(np.nan_to_num(rows[used, column['anfis_output']]),
+                                         0.0))
+            checked.append(rows[used, column['mode']].astype(int))
+    label, classified, checked = (np.concatenate(v) for v in (label, classified, checked))
+    print('\nForest out of fold (the train folds, the shipped settings, not nested), each '
+          "held-out HuGaDB foot replayed through the pipeline: the classifier's mode and the "
+          "mode after the stride's geometry check (accuracy, recall down / level / up, "
+          'confusion rows true -1/0/+1):')
+    for name, predicted in (('classifier', classified), ('pipeline', checked)):
+        matrix = confusion_matrix(label, predicted)
+        recall = np.diag(matrix) / matrix.sum(axis=1)
+        print(f'  {name:10s} {np.mean(label == predicted):.4f}  '
+              f'{"/".join(f"{r:.3f}" for r in recall)}  {matrix.tolist()}')
+    changes = Counter(zip(classified[classified != checked].tolist(),
+                          checked[classified != checked].tolist(),
+                          label[classified != checked].tolist()))
+    print('  changed by the check (classifier -> pipeline, true: cycles): ' + ', '.join(
+        f'{a:+d} -> {b:+d}, true {t:+d}: {n}' for (a, b, t), n in sorted(changes.items())))
+
+
 def _distance_ns(stamps_ns, stamp_ns) -> float:
     """Return the distance of a stamp to the nearest of others (inf when none), ns."""
     return float(np.min(np.abs(stamps_ns - stamp_ns))) if len(stamps_ns) else np.inf
@@ -476,6 +533,8 @@ def main(argv=None) -> int:
         print_gate_loso(args)
     if 'decision' in parts:
         print_decision(args)
+    if 'pipeline' in parts:
+        print_pipeline(args)
     return 0
 
 
