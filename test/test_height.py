@@ -739,6 +739,23 @@ def test_a_landing_a_storeys_height_above_a_floor_walked_is_no_floor():
         assert (corridor[-1].floor, corridor[-1].floor_certain) == (floor, True)
 
 
+def test_a_landing_walked_round_at_the_guess_of_3_m_is_no_floor_either():
+    """No floors walked (a stride lost on the stairs): the landing 3.0 m up a 4.5 m storey."""
+    walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K))
+    for _ in range(4):
+        walker.stride(0)
+    walker.flight(1, [2] * 2, 0.15)
+    walker.stamp += 1                                          # a stride of 2 risers unseen
+    walker.tracker.update(walker.stamp, _features(0.0), walker.x_m, 0.0, valid=False)
+    walker.flight(1, [2] * 2, 0.15)                            # bridged: 1.5 m
+    walker.stride(0, length_m=0.7)
+    walker.flight(1, [2] * 5, 0.15)
+    landing = [walker.stride(0, length_m=0.5) for _ in range(5)]     # 2.5 m round it
+    assert walker.tracker.floors.anchors == {}
+    assert landing[-1].height_m == pytest.approx(3.0)
+    assert {e.floor_certain for e in landing} == {False}       # the guess alone would say 1
+
+
 def test_the_floors_a_height_can_be_on_are_published_after_a_level_stretch():
     """Floor range: (f, f) while certain, None on the stairs, C(h) on a level stretch."""
     walker = _walker(ElevationParams(step_height_m=0.15, **FIXED_K))

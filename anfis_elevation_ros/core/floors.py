@@ -34,9 +34,10 @@ lobby up to L_max), so the floors a height can be on are also those its height a
 anchor allows, and a floor is certain where the anchors leave it alone
 (:meth:`FloorSettler.candidates`). One storey from an anchor is 2.3-5.0 m and two are 5.1 m
 or more (tolerance 0.5 m), so the floor next to an anchor is certain whatever the storeys.
-A landing can be a storey's height above a floor walked too (two thirds up a storey of three
-flights), so a floor is certain by the anchors only once its level stretch has gone more
-than :data:`LANDING_REACH_M` from where the stairs ended.
+A landing walked round can be at any height a floor could have (two thirds up a storey of
+three flights is a storey's height above the floor below, or 3 m above the start), so where
+the storeys are not known a floor is certain only once its level stretch has gone more than
+:data:`LANDING_REACH_M` from where the stairs ended.
 The guess of H stood guard against a height error; the errors that reach half a storey are
 climbs nobody saw, so the anchors are forgotten where cycles were lost next to stairs
 (:meth:`FloorSettler.forget_anchors`), and until a floor is certain again the guess of H
@@ -71,8 +72,8 @@ LEVEL_STRETCH_CYCLES = 3
 
 LANDING_REACH_M = 3.0
 """How far a level stretch may go from the stairs and still be on a landing, m (a landing is
-about a stair's width deep, 1-2.5 m): only a stretch that went further is made certain by the
-floors walked (and becomes one)."""
+about a stair's width deep, 1-2.5 m): without known storeys only a stretch that went further
+is made certain (and becomes a floor walked)."""
 
 
 def round_half_away(value):
@@ -373,20 +374,23 @@ class FloorSettler:
         """
         Return the floor a height is taken to be on and whether it is sure: (f, sure).
 
-        Without anchors :meth:`FloorMap.place`; with them the same floor moved into I(h)
-        (:meth:`candidates`), sure when I(h) is one floor and either the guess of H agrees
-        (:meth:`FloorMap.place`) or the level stretch has left the stairs
-        (:data:`LANDING_REACH_M`): the floors walked stand for the guess.
+        :meth:`FloorMap.place` where the storeys are known. Where they are not, sure only once
+        the level stretch has left the stairs (:data:`LANDING_REACH_M`: a landing walked round
+        can be at any height a floor could have), and then: without anchors as
+        :meth:`FloorMap.place`; with them the same floor moved into I(h) (:meth:`candidates`),
+        sure when I(h) is one floor (the floors walked stand for the guess of H).
         """
         floor, sure = self.floor_map.place(height_m, self.tolerance_m)
-        if not self.anchors:
+        if self.floor_map.storeys_known:
             return floor, sure
+        walked_off = self.reach_m > LANDING_REACH_M
+        if not self.anchors:
+            return floor, sure and walked_off
         floors = self.candidates(height_m)
         if floors is None:
             return floor, False
         lowest, highest = floors
-        walked_off = self.reach_m > LANDING_REACH_M
-        return min(max(floor, lowest), highest), lowest == highest and (sure or walked_off)
+        return min(max(floor, lowest), highest), lowest == highest and walked_off
 
     def _walk(self, xy: Optional[tuple], level: bool):
         """

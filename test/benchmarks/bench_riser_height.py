@@ -16,8 +16,8 @@
 Benchmark of the online riser height and the floors (issue 13): simulated walks, K not given.
 
 Run from the repository root: ``PYTHONPATH=. python test/benchmarks/bench_riser_height.py
-[--out DIR] [--cases seed,floors,nofile,storeys,drawn,random,heldout]`` (a script, not a
-test; about 5-10 minutes on one core, each random walk about 10 s). Every walk runs through
+[--out DIR] [--cases seed,floors,nofile,storeys,landings,drawn,random,heldout]`` (a script,
+not a test; about 5-10 minutes on one core, each random walk about 10 s). Every walk runs through
 ``replay_recording`` with the packaged model and the default parameters (prior K = 0.17 m),
 at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
 
@@ -44,6 +44,10 @@ at 100 Hz, tactical and consumer IMUs. The cases are the issue's done-when list:
   says the height can be on (``floor_lowest``, ``floor_highest``) hold the true one, and at
   the level cycles off every floor (landings) whether one is said certain; a wrong floor said
   to be certain, a range without the true floor, or a landing said to be on a floor, misses;
+- ``landings`` (not in the default list): the same on towers of 3.0-4.5 m storeys of three
+  flights, every landing walked round (four strides on a small circle), up four floors and
+  down again: a landing two thirds up a storey of 3.5 m or more is a storey's height above
+  the floor below;
 - ``drawn`` (not in the default list): the same on ``--towers`` towers per seed of
   ``--draw-seeds``, each drawn at random: a route that skips floors (``DRAWN_ROUTES``), storeys
   of 2.8-4.5 m, a lobby of the same height (probability 0.4) or up to 5.8 m, K 0.14-0.19 m,
@@ -80,6 +84,7 @@ RISERS_M = (0.14, 0.155, 0.17, 0.19)
 TOWERS = {4: (0, 3, 1, 2, 0), 5: (0, 4, 1, 3, 0), 6: (0, 5, 2, 4, 0)}   # floors: route
 LONG_ROUTE = (0, 4, 1, 3, 0, 2, 4, 1, 0)                                  # ~10 minutes
 STOREYS_ROUTE = (0, 1, 2, 3, 4, 5, 3, 0)                                  # every floor
+CORRIDOR_STRIDES = 12                                                     # each way
 DRAWN_ROUTES = ((0, 4, 1, 3, 0), (0, 5, 2, 4, 0), LONG_ROUTE, (0, 2, 5, 3, 1, 0),
                 (0, 1, 3, 5, 4, 2, 0))                                  # floors skipped
 COLUMN = {name: k for k, name in enumerate(CYCLE_COLUMNS)}
@@ -231,6 +236,52 @@ def case_drawn_towers(failures, draw_seeds, towers):
         print(f'{imu:9s} all: {" ".join(f"{n:5d}" for n in total[imu])}')
 
 
+def case_landings(failures):
+    """Run towers whose landings are walked round, no building file: no landing a floor."""
+    print('case landings (storeys of three flights, each landing walked round; no building '
+          'file; the columns of case storeys)')
+    seed = 700
+    total = {imu: np.zeros(8, dtype=int) for imu in IMUS}
+    for imu in IMUS:
+        for storey_m in (3.0, 3.6, 4.2, 4.5):
+            for k_m in (0.15, 0.18):
+                seed += 1
+                row = landing_tower(storey_m, k_m, imu, seed)
+                total[imu] += row
+                print(f'{imu:9s} storeys {storey_m:3.1f} m, K {k_m:.2f} m: '
+                      f'{" ".join(f"{n:4d}" for n in row)}')
+                if row[1] or row[5] or row[7]:
+                    failures.append(f'landings {imu} {storey_m} m K {k_m}')
+        print(f'{imu:9s} all: {" ".join(f"{n:5d}" for n in total[imu])}')
+
+
+def landing_tower(storey_m, k_m, imu, seed, floors=4) -> np.ndarray:
+    """
+    Return the counts of ``case_unknown_storeys`` for a walk up a tower and down again.
+
+    Each storey is three flights of n steps (n K about a third of the storey) with a 90 deg
+    landing between them; on each landing the wearer walks round a small circle, four strides
+    of 0.5 m (a landing two thirds up is a storey's height above the floor below for storeys
+    of 3.5 m or more); on each floor a corridor out and back.
+    """
+    n = int(round(storey_m / k_m / 3))
+    corridor = [sim.Segment.level(CORRIDOR_STRIDES), sim.Segment.turn(180.0),
+                sim.Segment.level(CORRIDOR_STRIDES), sim.Segment.turn(180.0)]
+    segments = list(corridor)
+    for direction in (1, -1):
+        for _ in range(floors - 1):
+            for flight in range(3):
+                segments.append(sim.Segment.stairs(n, direction, step_height_m=k_m))
+                if flight < 2:
+                    segments += [sim.Segment.level(4, turn_deg=360.0, stride_length_m=0.5),
+                                 sim.Segment.level(1, turn_deg=90.0, stride_length_m=0.7)]
+            segments += corridor
+    walk = sim.simulate_walk(tuple(segments), rng=np.random.default_rng(seed),
+                             rate_hz=RATE_HZ, imu=imu, step_height_m=k_m)
+    elevations_m = sim.tower_floor_elevations_m([3 * n] * (floors - 1), k_m)
+    return storey_counts(replay(walk), elevations_m)
+
+
 def unknown_storeys_tower(lobby_m, storey_m, k_m, imu, seed, route=STOREYS_ROUTE,
                           steps_per_stride=2) -> np.ndarray:
     """Return a tower's counts of ``case_unknown_storeys`` (the columns it prints)."""
@@ -239,8 +290,12 @@ def unknown_storeys_tower(lobby_m, storey_m, k_m, imu, seed, route=STOREYS_ROUTE
                               steps_per_stride=steps_per_stride)
     walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed), rate_hz=RATE_HZ,
                              imu=imu, step_height_m=k_m)
-    out = replay(walk)
-    mask, truth = on_floor_level_cycles(out, sim.tower_floor_elevations_m(steps, k_m))
+    return storey_counts(replay(walk), sim.tower_floor_elevations_m(steps, k_m))
+
+
+def storey_counts(out, elevations_m) -> np.ndarray:
+    """Return the counts ``case_unknown_storeys`` prints for a replayed walk."""
+    mask, truth = on_floor_level_cycles(out, elevations_m)
     right, certain = out['floor'][mask] == truth[mask], out['certain'][mask]
     off_floor = (out['true_mode'] == 0) & ~mask
     ranged = ~certain & np.isfinite(out['lowest'][mask])
@@ -333,7 +388,8 @@ def main(argv=None) -> int:
     parser.add_argument('--out', default=None, help='directory for riser_convergence.png')
     parser.add_argument('--cases', default='seed,floors,nofile,random,heldout',
                         help='comma-separated subset of seed, floors (includes file), nofile '
-                        '(towers), storeys (towers of storeys nobody gave), drawn (towers '
+                        '(towers), storeys (towers of storeys nobody gave), landings (towers '
+                        'whose landings are walked round), drawn (towers '
                         'drawn at random, --draw-seeds), random (random '
                         'walks, seeds --seeds), heldout (random walks, seeds --held-out-seeds)')
     parser.add_argument('--seeds', default='11,12,13',
@@ -363,6 +419,8 @@ def main(argv=None) -> int:
         case_no_file(failures)
     if 'storeys' in cases:
         case_unknown_storeys(failures)
+    if 'landings' in cases:
+        case_landings(failures)
     if 'drawn' in cases:
         case_drawn_towers(failures, [int(v) for v in args.draw_seeds.split(',')], args.towers)
     if 'random' in cases:
