@@ -430,19 +430,19 @@ class Incident:
             for f in self._building.floors:
                 floors[f.index] = {'index': f.index, 'name': f.name,
                                    'elevation_m': f.elevation_m}
-        for r in self._responders.values():
-            for index in ([] if r.floor is None else [r.floor]) + _possible_floors(r):
+        placed = [(r, _possible_floors(r)) for r in self._responders.values()
+                  if r.floor is not None]
+        for r, possible in placed:
+            for index in [r.floor] + possible:
                 floors.setdefault(index, {'index': index, 'name': '', 'elevation_m': None})
         for f in floors.values():
             f.update(responders=0, uncertain=0, possible=0, alarms=0)
-        for r in self._responders.values():
-            if r.floor is None:
-                continue
+        for r, possible in placed:
             f = floors[r.floor]
             f['responders'] += 1
             f['uncertain'] += not r.floor_certain
             f['alarms'] += sum(a.severity == al.ALARM for a in r.alarms.values())
-            for index in _possible_floors(r):
+            for index in possible:
                 floors[index]['possible'] += 1
         return [floors[k] for k in sorted(floors, reverse=True)]
 

@@ -361,9 +361,11 @@ class FloorSettler:
         """
         floors = self.floor_map.candidates(height_m, self.tolerance_m)
         for floor, anchor_m in self.anchors.items():
+            if floors is None:
+                break
             seen = self.floor_map.seen_from(floor).candidates(height_m - anchor_m,
                                                               self.tolerance_m)
-            if floors is None or seen is None:
+            if seen is None:
                 return None
             floors = (max(floors[0], seen[0]), min(floors[1], seen[1]))
             if floors[0] > floors[1]:

@@ -205,7 +205,7 @@ def case_unknown_storeys(failures):
                 total += row
                 print(f'{imu:9s} lobby {lobby_m or storey_m:3.1f} m, storeys {storey_m:3.1f} m: '
                       f'{" ".join(f"{n:4d}" for n in row)}')
-                if row[1] or row[5] or row[7]:
+                if storey_miss(row):
                     failures.append(f'storeys {imu} {storey_m} m, lobby {lobby_m or storey_m} m')
         print(f'{imu:9s} all: {" ".join(f"{n:4d}" for n in total)}')
 
@@ -230,7 +230,7 @@ def case_drawn_towers(failures, draw_seeds, towers):
                 print(f'{draw_seed}/{k:<3d} {imu:9s} route {"-".join(map(str, route)):17s} '
                       f'storeys {storey_m:.2f} m, lobby {lobby_m:.2f} m, K {k_m:.3f} m, '
                       f'{per_stride} a stride: {" ".join(f"{n:4d}" for n in row)}')
-                if row[1] or row[5] or row[7]:
+                if storey_miss(row):
                     failures.append(f'drawn tower {draw_seed}/{k} {imu}')
     for imu in IMUS:
         print(f'{imu:9s} all: {" ".join(f"{n:5d}" for n in total[imu])}')
@@ -250,7 +250,7 @@ def case_landings(failures):
                 total[imu] += row
                 print(f'{imu:9s} storeys {storey_m:3.1f} m, K {k_m:.2f} m: '
                       f'{" ".join(f"{n:4d}" for n in row)}')
-                if row[1] or row[5] or row[7]:
+                if storey_miss(row):
                     failures.append(f'landings {imu} {storey_m} m K {k_m}')
         print(f'{imu:9s} all: {" ".join(f"{n:5d}" for n in total[imu])}')
 
@@ -291,6 +291,16 @@ def unknown_storeys_tower(lobby_m, storey_m, k_m, imu, seed, route=STOREYS_ROUTE
     walk = sim.simulate_walk(segments, rng=np.random.default_rng(seed), rate_hz=RATE_HZ,
                              imu=imu, step_height_m=k_m)
     return storey_counts(replay(walk), sim.tower_floor_elevations_m(steps, k_m))
+
+
+def storey_miss(row) -> bool:
+    """
+    Return whether a row of :func:`storey_counts` misses its requirement.
+
+    A wrong floor said to be certain, a range without the true floor, or a landing said to be
+    on a floor.
+    """
+    return bool(row[1] or row[5] or row[7])
 
 
 def storey_counts(out, elevations_m) -> np.ndarray:
