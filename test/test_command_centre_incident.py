@@ -233,7 +233,12 @@ def test_evacuation_and_roll_call_are_logged():
     assert 'Floor ?, last contact 4 s ago, no alarm' in texts
     incident.update_floor_range('/ff1', [1, 2])     # settled where two floors fit
     incident.roll_call('IC Smith')
-    assert 'Floor 1-2?, last contact 0 s ago, no alarm' in [
+    assert 'Floor 1\u20132?, last contact 0 s ago, no alarm' in [
+        e['text'] for e in incident.snapshot()['log']]
+    incident.update_floor('/ff1', -1)
+    incident.update_floor_range('/ff1', [-2, -1])   # basements: the dash is no minus sign
+    incident.roll_call('IC Smith')
+    assert 'Floor -2\u2013-1?, last contact 0 s ago, no alarm' in [
         e['text'] for e in incident.snapshot()['log']]
 
 

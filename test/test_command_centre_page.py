@@ -233,6 +233,10 @@ def test_page_without_a_building_draws_a_grid_and_the_floors_seen(browser):
                           '/ff3': 'Floor 3\u20134? (last Floor 4)'}
         assert [(b['floor'], b['count'], b['possible']) for b in floor_buttons(browser)] == \
             [(4, 1, None), (3, 0, '+1?'), (2, 1, None)]         # /ff3 may be on floor 3
+        assert browser.execute_script("""
+            return Array.from(document.querySelectorAll('#side-view .floor-line text')).map(
+              function (t) { return t.textContent; });""") == \
+            ['Floor 4 (1)', 'Floor 3 (0 +1?)', 'Floor 2 (1)']   # and so in the side view
         assert browser.find_element('css selector', '#floors .floorless').text == 'No floor: 1'
         assert len(browser.find_elements('css selector', '#map path')) >= 3   # grid + markers
 

@@ -470,13 +470,13 @@ def _range_known(floors) -> bool:
 
 
 def _floor_text(state: dict) -> str:
-    """Return a responder's floor as the page shows it: 'Floor 2', 'Floor 2-3?', 'Floor ?'."""
+    """Return a responder's floor as the page shows it: 'Floor 2', 'Floor 2\u20133?', 'Floor ?'."""
     floors = state['floor_range']
     if state['floor'] is None or not (state['floor_certain'] or floors):
         return 'Floor ?'
     if state['floor_certain']:
         return f'Floor {state["floor"]}'
-    return f'Floor {floors[0]}' + (f'-{floors[1]}' if floors[1] != floors[0] else '') + '?'
+    return f'Floor {floors[0]}' + (f'\u2013{floors[1]}' if floors[1] != floors[0] else '') + '?'
 
 
 def _is_int(value) -> bool:

@@ -538,7 +538,8 @@
     const H = 260;
     const floors = state.floors.map(function (f) {
       return { index: f.index, name: f.name || 'Floor ' + f.index, count: f.responders,
-        alarms: f.alarms, z: f.elevation_m === null ? 3 * f.index : f.elevation_m };
+        possible: f.possible, alarms: f.alarms,
+        z: f.elevation_m === null ? 3 * f.index : f.elevation_m };
     });
     const people = Array.from(state.responders.values()).filter(function (r) { return r.x_m !== null; });
     const zs = floors.map(function (f) { return f.z; }).concat(people.map(function (r) {
@@ -559,7 +560,7 @@
         '" y1="' + py(f.z) + '" y2="' + py(f.z) + '" stroke="' + (sel ? '#0047b3' : '#444') +
         '" stroke-width="' + (sel ? 4 : 2) + '"/><text x="4" y="' + (py(f.z) + 4) + '"' +
         (f.alarms ? ' fill="#c00000" font-weight="bold"' : '') + '>' + escapeHtml(f.name) +
-        ' (' + f.count + ')</text></g>';
+        ' (' + f.count + (f.possible ? ' +' + f.possible + '?' : '') + ')</text></g>';
     });
     people.forEach(function (r) {
       const z = r.z_m === null ? (floorInfo(r.floor) || { elevation_m: 0 }).elevation_m || 0 : r.z_m;
