@@ -53,15 +53,19 @@ minutes it reports:
 - cycles (and true strides), level cycles, floor errors and max |quantised - true height| at
   level cycles. A level cycle closes while the foot stands on a floor: its true height at the
   cycle's stamp is within 3 cm of a whole storey. The true floor is
-  ``floor_index(true height, floor_height_m)``, with the tracker's 3.0 m storey height.
+  ``floor_index(true height, floor_height_m)``, with the tracker's 3.0 m storey height;
+- the floor the tracker publishes at those level cycles (no building file: the storeys are
+  2.8-4.5 m to it, the floors walked its anchors, ``core/floors.py``): how many it says are
+  certain, and how many of those are not the true floor (round(true height / 3.06 m)).
 
 Targets: RSS growth from the end of the first row (warm-up) to the end < 5 %; zero
-floor errors at level cycles; throughput steady, i.e. no slowdown: the least-squares line of
-the rows' samples per CPU second loses less than 10 % of the median from the first row to the
-last. CPU, not wall, time because the machine is shared and the wall clock also measures the
-neighbours; a trend and not a band because even the CPU rate of the same hour of data varies
-by 15 % between runs on a loaded machine (two 8-hour runs: hour 2 at 6989 and 5918 samples
-per CPU s), and the rows differ in content (stance samples carry the ZUPT update).
+floor errors at level cycles, and no published floor certain and wrong; throughput steady,
+i.e. no slowdown: the least-squares line of the rows' samples per CPU second loses less than
+10 % of the median from the first row to the last. CPU, not wall, time because the machine is
+shared and the wall clock also measures the neighbours; a trend and not a band because even
+the CPU rate of the same hour of data varies by 15 % between runs on a loaded machine (two
+8-hour runs: hour 2 at 6989 and 5918 samples per CPU s), and the rows differ in content
+(stance samples carry the ZUPT update).
 
 Live (``--live-minutes N``, default 30, 0 skips it): an N-minute walk of the same building
 (one simulation) is written as a bag, ``python -m anfis_elevation_ros run`` (packaged model,
@@ -94,7 +98,7 @@ from anfis_elevation_ros.core.height import ElevationTracker, floor_index
 from anfis_elevation_ros.core.input_gate import InputGate
 from anfis_elevation_ros.core.navigator import FootNavigator
 from anfis_elevation_ros.core.params import load_model, load_pipeline_params
-from anfis_elevation_ros.tools.replay import cycle_row, navigated_samples
+from anfis_elevation_ros.tools.replay import CYCLE_COLUMNS, cycle_row, navigated_samples
 import numpy as np
 
 TEST_DIR = Path(__file__).resolve().parents[1]
@@ -120,6 +124,8 @@ LIVE_SAMPLE_PERIOD_S = 10.0
 LIVE_WARM_UP_S = 300.0
 MAX_LISTED_ERRORS = 20
 M_MMAP_THRESHOLD = -3   # glibc mallopt parameter
+HEIGHT_COLUMN, FLOOR_COLUMN, CERTAIN_COLUMN = (CYCLE_COLUMNS.index(name) for name in (
+    'height_m', 'floor', 'floor_certain'))
 
 
 # -- the shift ---------------------------------------------------------------------------------
@@ -220,14 +226,20 @@ class FloorCheck:
         self.floor_height_m = floor_height_m
         self.level_cycles = 0
         self.floor_errors = 0
+        self.certain_floors = 0
+        self.wrong_certain_floors = 0
         self.max_height_error_m = 0.0
         self.errors = []   # the first few: (time from the start s, true height, estimate)
 
-    def add(self, time_s: float, true_height_m: float, height_m: float):
-        """Check one cycle's quantised height against the truth at its stamp."""
+    def add(self, time_s: float, true_height_m: float, height_m: float, floor=None,
+            certain=False):
+        """Check one cycle's quantised height (and published floor) against the truth."""
         if not on_floor(true_height_m):
             return
         self.level_cycles += 1
+        if certain:
+            self.certain_floors += 1
+            self.wrong_certain_floors += floor != round(true_height_m / STOREY_M)
         self.max_height_error_m = max(self.max_height_error_m, abs(height_m - true_height_m))
         true_floor = floor_index(true_height_m, self.floor_height_m)
         if floor_index(height_m, self.floor_height_m) != true_floor:
@@ -261,6 +273,8 @@ class Row:
         return {'end_h': round(end_h, 4), 'samples': self.samples, 'cycles': self.cycles,
                 'strides': self.strides, 'level_cycles': self.check.level_cycles,
                 'floor_errors': self.check.floor_errors,
+                'certain_floors': self.check.certain_floors,
+                'wrong_certain_floors': self.check.wrong_certain_floors,
                 'max_level_height_error_m': round(self.check.max_height_error_m, 3),
                 'floor_error_cycles': self.check.errors, 'rss_mb': round(rss_mb(), 2),
                 'samples_per_s': round(self.samples / max(self.wall_s, 1e-9)),
@@ -283,9 +297,11 @@ def feed(chunk, k0: int, k1: int, t0_ns: int, pipeline, row: Row):
     row.cycles += len(cycles)
     row.strides += int(np.count_nonzero((chunk.stride_ns >= chunk.stamp_ns[k0])
                                         & (chunk.stride_ns < chunk.stamp_ns[k1 - 1] + 1)))
-    for stamp_ns, _, height_m, *_ in cycles:
+    for values in cycles:
+        stamp_ns, height_m = values[0], values[HEIGHT_COLUMN]
         true_m = chunk.z_m[np.searchsorted(chunk.stamp_ns, stamp_ns)]
-        row.check.add((stamp_ns - t0_ns) * 1e-9, true_m, height_m)
+        row.check.add((stamp_ns - t0_ns) * 1e-9, true_m, height_m, values[FLOOR_COLUMN],
+                      bool(values[CERTAIN_COLUMN]))
 
 
 def run_offline(hours: float, row_minutes: float, chunk_minutes: float, seed: int) -> dict:
@@ -364,13 +380,16 @@ def offline_verdicts(figures: dict) -> list:
     growth = 100.0 * (last - first) / first
     floor_errors = sum(r['floor_errors'] for r in rows)
     level_cycles = sum(r['level_cycles'] for r in rows)
+    certain = sum(r['certain_floors'] for r in rows)
+    wrong_certain = sum(r['wrong_certain_floors'] for r in rows)
     rates = np.array([r['samples_per_cpu_s'] for r in rows], dtype=float)
     hours = np.array([r['end_h'] for r in rows])
     spread = float(np.max(np.abs(rates / np.median(rates) - 1.0)))
     trend = float(np.polyfit(hours, rates, 1)[0] * (hours[-1] - hours[0]) / np.median(rates)
                   if len(rows) > 1 else 0.0)
     figures.update({'rss_growth_pct': round(growth, 2), 'floor_errors': floor_errors,
-                    'level_cycles': level_cycles,
+                    'level_cycles': level_cycles, 'certain_floors': certain,
+                    'wrong_certain_floors': wrong_certain,
                     'throughput_max_deviation_from_median_pct': round(100.0 * spread, 1),
                     'throughput_trend_pct': round(100.0 * trend, 1)})
     return [
@@ -378,6 +397,8 @@ def offline_verdicts(figures: dict) -> list:
          growth < MEMORY_GROWTH_TARGET_PCT, f'{growth:+.2f} % ({first:.1f} -> {last:.1f} MB)'),
         ('offline floor errors at level cycles = 0', floor_errors == 0 and level_cycles > 0,
          f'{floor_errors} in {level_cycles} level cycles'),
+        ('offline published floors certain and wrong = 0', wrong_certain == 0,
+         f'{wrong_certain} of {certain} certain ({level_cycles} level cycles)'),
         (f'offline throughput trend over the run > -{100 * SLOWDOWN_TOLERANCE:.0f} %',
          trend > -SLOWDOWN_TOLERANCE, f'{100.0 * trend:+.1f} % (rows within '
          f'{100.0 * spread:.1f} % of the median)'),
@@ -390,12 +411,13 @@ def print_offline(figures: dict):
           f'{figures["samples"]} samples in {figures["wall_s"]:.0f} s wall (simulation '
           f'{figures["simulation_s"]:.0f} s in the worker process, waited for it '
           f'{figures["waited_for_simulation_s"]:.0f} s)')
-    print('| end h | samples | cycles | strides | level cycles | floor errors | max dh level m '
-          '| RSS MB | samples/s | samples/CPU s |')
-    print('| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |')
+    print('| end h | samples | cycles | strides | level cycles | floor errors | floors certain '
+          '(wrong) | max dh level m | RSS MB | samples/s | samples/CPU s |')
+    print('| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |')
     for r in figures['rows']:
         print(f'| {r["end_h"]:g} | {r["samples"]} | {r["cycles"]} | {r["strides"]} | '
-              f'{r["level_cycles"]} | {r["floor_errors"]} | {r["max_level_height_error_m"]:.2f} '
+              f'{r["level_cycles"]} | {r["floor_errors"]} | {r["certain_floors"]} '
+              f'({r["wrong_certain_floors"]}) | {r["max_level_height_error_m"]:.2f} '
               f'| {r["rss_mb"]:.1f} | {r["samples_per_s"]} | {r["samples_per_cpu_s"]} |')
     print(f'RSS growth after the first row {figures["rss_growth_pct"]:+.2f} %; floor errors '
           f'{figures["floor_errors"]} in {figures["level_cycles"]} level cycles; throughput '
