@@ -377,23 +377,6 @@ def test_a_second_staircase_of_another_riser_height_gets_its_own_estimate():
     assert walker.tracker.height_m == pytest.approx(walker.true_height_m, abs=0.04)
 
 
-def test_the_first_flights_are_weighed_again_once_the_level_strides_measure_the_noise():
-    """Random walk 993: a climb before any level stride, a stair 4 mm taller later."""
-    walker = _walker(ElevationParams(step_height_m=0.17), seed=993)
-    walker.stride(0, noise_m=0.001)
-    for _ in range(40):
-        walker.stride(1, 1, 0.180, noise_m=0.001)
-    assert walker.tracker.risers.provisional_strides == 40
-    for k in range(14):                             # a slope from 4, the noise from 8 more
-        walker.stride(0, noise_m=0.0035)
-        assert walker.tracker.risers.provisional_strides == (40 if k + 1 < 4 + 8 else 0)
-    for _ in range(3):
-        walker.stride(1, 4, 0.184, noise_m=0.001)
-    walker.stride(0, noise_m=0.0035)
-    assert walker.tracker.risers.stairwells == 2
-    assert walker.tracker.height_m == pytest.approx(walker.true_height_m, abs=0.02)
-
-
 def test_the_building_files_riser_height_is_used_exactly():
     tree = {'format': 'anfis_elevation_ros/building', 'version': 1, 'step_height_m': 0.16,
             'floors': [{'index': 0, 'elevation_m': 0.0}, {'index': 1, 'elevation_m': 2.88}]}

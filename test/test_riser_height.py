@@ -240,32 +240,6 @@ def test_how_far_apart_two_stairs_must_be_follows_the_stride_noise(sigma_m, expe
     assert wells.stairwells == expected_wells
 
 
-@pytest.mark.parametrize('measured', [True, False])
-def test_strides_taken_before_the_noise_was_measured_are_weighed_again(measured):
-    # Random walk 993 (tactical): 40 risers of 0.180 m climbed one a stride before any level
-    # stride measured the noise, later a flight of 0.184 m risers four a stride. Weighed at the
-    # 1 cm assumed, the first stairwell took the second flight in and moved its K towards
-    # 0.184 m, 0.14 m over its 40 risers; weighed again at the 4 mm measured, it does not.
-    wells = StairwellRiserHeights(0.17)
-    rng = np.random.default_rng(993)
-    wells.start_flight((0.0, 0.0), 1)
-    for dh, length in zip(*flight(0.180, [1] * 40, rng, noise_m=0.001)):
-        wells.add(dh, length)                       # sigma not measured yet
-    wells.end_flight(counted(40))
-    if measured:
-        wells.reweigh(0.004)
-    wells.start_flight((4.0, -7.0), 1)
-    for dh, length in zip(*flight(0.184, [4] * 3, rng, noise_m=0.001)):
-        wells.add(dh, length, sigma_m=0.004)
-    wells.end_flight(counted(12))
-    assert wells.stairwells == (2 if measured else 1)
-    first_well_m = wells.climbed_m - 12 * wells.estimate_m
-    assert (abs(first_well_m - 40 * 0.180) < 0.02) == measured
-    if measured:
-        wells.reweigh(0.004)                        # once only: nothing left to weigh again
-        assert wells.climbed_m - 12 * wells.estimate_m == pytest.approx(first_well_m)
-
-
 def test_flights_of_one_riser_height_share_a_stairwell_another_gets_its_own():
     wells = StairwellRiserHeights(0.17)
     rng = np.random.default_rng(9)

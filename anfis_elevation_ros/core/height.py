@@ -467,8 +467,6 @@ class ElevationTracker:
                     self.recovered_strides += 1
         if mode == MODE_LEVEL:
             self.slope.add_level(dh_m, length_m)
-            if self.slope.measured_sigma_m is not None:
-                self.risers.reweigh(self.slope.measured_sigma_m)
             self._last_level = (dh_m, length_m, start_xy, (x_m, y_m))
         else:
             self._add_stair_stride(dh_m, length_m, (x_m, y_m))
@@ -518,7 +516,7 @@ class ElevationTracker:
             if riser_count_bounds(length_m)[1] <= MAX_RISERS:   # fits stairs: correct the slope
                 dh_m = self.slope.corrected(dh_m, length_m)
             bounds = riser_count_bounds(length_m, from_level)
-        self.risers.add(dh_m, length_m, end_xy, self.slope.measured_sigma_m, from_level)
+        self.risers.add(dh_m, length_m, end_xy, self.slope.stride_sigma_m, from_level)
         self._flight_abs_dh_m.append(abs(dh_m))
         self._flight_cycles.append(1)
         self._flight_bounds.append(bounds)

@@ -112,11 +112,6 @@ class LevelSlope:
         """Return the stride height noise sigma, m (:func:`stride_noise_sigma`)."""
         return stride_noise_sigma(self._residuals)
 
-    @property
-    def measured_sigma_m(self) -> Optional[float]:
-        """Return :attr:`stride_sigma_m` once the level strides measure it, else None."""
-        return self.stride_sigma_m if len(self._residuals) >= MIN_NOISE_STRIDES else None
-
     def corrected(self, dh_m: float, length_m: Optional[float]) -> float:
         """Return a stair stride's height change without the slope error, dh - c L, m."""
         return dh_m if length_m is None else dh_m - self.slope * length_m

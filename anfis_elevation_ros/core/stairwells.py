@@ -19,12 +19,10 @@ Successive flights of one stairwell share K (their strides sharpen one estimate,
 ``core/riser_height.py``); another staircase may have another K. Each flight joins the
 stairwell whose posterior explains its strides best, or starts a new one
 (:func:`stairwell_evidence`); a flight back down the stairs just climbed joins them whatever
-its strides say. A stride taken before the level strides measure the stride noise is weighed
-at :data:`~.level_strides.STRIDE_SIGMA_M` until they do, then again at the noise measured
-(:meth:`StairwellRiserHeights.reweigh`).
+its strides say.
 
-Public API: :class:`StairwellRiserHeights`, :func:`stairwell_evidence`, :func:`weighed_stride`,
-:func:`reweighed`, :data:`SAME_STAIRS_M`, :data:`SAME_LEVEL_M`.
+Public API: :class:`StairwellRiserHeights`, :func:`stairwell_evidence`,
+:data:`SAME_STAIRS_M`, :data:`SAME_LEVEL_M`.
 """
 
 from dataclasses import dataclass, field
@@ -60,8 +58,6 @@ class Stairwell:
     end_xy : (x, y) where its last flight ended, m, or None.
     direction : that flight's direction (+1 up, -1 down; 0 none yet).
     end_height_m : the height it ended at, m, or None.
-    provisional : its strides weighed at the noise assumed before it was measured, each
-        (dh_m, length_m, from_level).
 
     """
 
@@ -70,7 +66,6 @@ class Stairwell:
     end_xy: Optional[tuple] = None
     direction: int = 0
     end_height_m: Optional[float] = None
-    provisional: list = field(default_factory=list)
 
 
 class StairwellRiserHeights:
@@ -107,7 +102,6 @@ class StairwellRiserHeights:
         self._risers_at = {}        # (stairwell, K) -> N_w(K): K moves only during a flight
         self._flight_log_likelihood = None
         self._flight_strides = 0
-        self._flight_provisional = []
         self._flight_start_xy = self._flight_end_xy = None
         self._flight_direction = 0
         self._flight_start_height_m = None
@@ -122,31 +116,26 @@ class StairwellRiserHeights:
         """
         self._flight_log_likelihood = np.zeros(len(K_GRID_M))
         self._flight_strides = 0
-        self._flight_provisional = []
         self._flight_start_xy = self._flight_end_xy = start_xy
         self._flight_direction = int(direction)
         self._flight_start_height_m = start_height_m
         self._index = None
 
     def add(self, dh_m: float, length_m: Optional[float] = None,
-            end_xy: Optional[tuple] = None, sigma_m: Optional[float] = None,
+            end_xy: Optional[tuple] = None, sigma_m: float = STRIDE_SIGMA_M,
             from_level: bool = False) -> float:
         """
         Add a stride (ending at (x, y), m) to the open flight; return the estimate, m.
 
-        ``sigma_m`` is the stride's height noise measured on the level strides
-        (``LevelSlope.measured_sigma_m``), None before they measure it: then the stride is
-        weighed at :data:`STRIDE_SIGMA_M` until :meth:`reweigh`. ``from_level`` says it is the
-        flight's first (:func:`stride_riser_counts`).
+        ``sigma_m`` is the stride's height noise (``level_strides.stride_noise_sigma``);
+        ``from_level`` says it is the flight's first (:func:`stride_riser_counts`).
         """
         if not math.isfinite(dh_m):
             raise ValueError(f'stair stride dh_m must be finite, got {dh_m!r}')
         if self._flight_log_likelihood is None:
             self.start_flight()
-        if sigma_m is None:
-            self._flight_provisional.append((dh_m, length_m, from_level))
-        self._flight_log_likelihood += weighed_stride(
-            dh_m, length_m, from_level, STRIDE_SIGMA_M if sigma_m is None else sigma_m)
+        self._flight_log_likelihood += stride_log_likelihood(
+            dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m, from_level, sigma_m), sigma_m)
         self._flight_strides += 1
         self._flight_end_xy = end_xy
         same_stairs = self._stairwell_ending_near(self._flight_start_xy)
@@ -178,34 +167,12 @@ class StairwellRiserHeights:
             self._index = len(self._wells) - 1
         well = self._wells[self._index]
         well.estimator.commit(self._flight_log_likelihood, self._flight_strides)
-        well.provisional += self._flight_provisional
-        self._flight_provisional = []
         well.flights = well.flights + flight
         self._risers_at.clear()
         well.end_xy = self._flight_end_xy
         well.direction = self._flight_direction
         well.end_height_m = end_height_m
         self._flight_log_likelihood = None
-
-    def reweigh(self, sigma_m: float):
-        """
-        Weigh the strides taken before the stride noise was measured at the noise measured.
-
-        A stairwell's first flights often come before the level strides that measure the
-        noise: weighed at :data:`STRIDE_SIGMA_M` (1 cm) where a tactical IMU's strides scatter
-        by 2 mm, 40 risers of 0.180 m left K so loose that a flight of 0.184 m risers joined
-        them and moved their K, 0.14 m over their climb (random walk 993).
-        """
-        changed = False
-        for well in self._wells:
-            if well.provisional:
-                well.estimator.commit(reweighed(well.provisional, sigma_m), 0)
-                well.provisional, changed = [], True
-        if self._flight_provisional and self._flight_log_likelihood is not None:
-            self._flight_log_likelihood += reweighed(self._flight_provisional, sigma_m)
-            self._flight_provisional, changed = [], True
-        if changed:
-            self._risers_at.clear()
 
     def _new_estimator(self) -> RiserHeightEstimator:
         first = self._template
@@ -279,31 +246,9 @@ class StairwellRiserHeights:
         return self._template.estimating
 
     @property
-    def provisional_strides(self) -> int:
-        """Return the strides still weighed at the noise assumed before it was measured."""
-        return sum(len(well.provisional) for well in self._wells) + len(self._flight_provisional)
-
-    @property
     def stairwells(self) -> int:
         """Return the number of stairwells told apart so far."""
         return len(self._wells)
-
-
-def weighed_stride(dh_m: float, length_m: Optional[float], from_level: bool,
-                   sigma_m: float) -> np.ndarray:
-    """Log likelihood of one stair stride over :data:`K_GRID_M` at noise sigma (m)."""
-    return stride_log_likelihood(
-        dh_m, K_GRID_M, stride_riser_counts(dh_m, length_m, from_level, sigma_m), sigma_m)
-
-
-def reweighed(strides, sigma_m: float) -> np.ndarray:
-    """
-    Change of the log likelihood of strides weighed at sigma_0 (:data:`STRIDE_SIGMA_M`) at sigma.
-
-    sum_i log p(dh_i | K; sigma) - log p(dh_i | K; sigma_0)
-    """
-    return sum(weighed_stride(*stride, sigma_m) - weighed_stride(*stride, STRIDE_SIGMA_M)
-               for stride in strides)
 
 
 def stairwell_evidence(log_posterior: np.ndarray, flight_log_likelihood: np.ndarray) -> float:
