@@ -56,7 +56,7 @@ minutes it reports:
   ``floor_index(true height, floor_height_m)``, with the tracker's 3.0 m storey height;
 - the floor the tracker publishes at those level cycles (no building file: the storeys are
   2.8-4.5 m to it, the floors walked its anchors, ``core/floors.py``): how many it says are
-  certain, and how many of those are not the true floor (round(true height / 3.06 m)).
+  certain, and how many of those are not the true floor (``floor_index(true height, 3.06 m)``).
 
 Targets: RSS growth from the end of the first row (warm-up) to the end < 5 %; zero
 floor errors at level cycles, and no published floor certain and wrong; throughput steady,
@@ -239,7 +239,7 @@ class FloorCheck:
         self.level_cycles += 1
         if certain:
             self.certain_floors += 1
-            self.wrong_certain_floors += floor != round(true_height_m / STOREY_M)
+            self.wrong_certain_floors += floor != floor_index(true_height_m, STOREY_M)
         self.max_height_error_m = max(self.max_height_error_m, abs(height_m - true_height_m))
         true_floor = floor_index(true_height_m, self.floor_height_m)
         if floor_index(height_m, self.floor_height_m) != true_floor:
